@@ -1,0 +1,88 @@
+// Everything a groom file says, validated and with paths made absolute. io/ reads it from YAML;
+// app/ composes meshes, guides, binding, growth, effects and dynamics from it.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "groom/dynamics_desc.h"
+#include "groom/effect_desc.h"
+#include "groom/error.h"
+#include "groom/parting.h"
+
+namespace plume {
+
+/// One keyframe of a rigid emitter animation; between keys, translation and scale are
+/// interpolated linearly and rotation by slerp.
+struct RigidKey {
+  double frame = 1.0;
+  Eigen::Vector3f translate = Eigen::Vector3f::Zero();
+  Eigen::Vector3f rotate_degrees = Eigen::Vector3f::Zero();  // XYZ Euler angles, applied X then Y then Z
+  float scale = 1.0f;
+};
+
+struct EmitterAnimation {
+  enum class Kind { none, obj_sequence, rigid } kind = Kind::none;
+  /// obj_sequence: a path pattern with #### or %04d (absolute), same topology as the rest mesh.
+  std::string sequence_pattern;
+  /// rigid: keys sorted by frame, about `pivot` (rest-pose coordinates).
+  std::vector<RigidKey> keys;
+  Eigen::Vector3f pivot = Eigen::Vector3f::Zero();
+  FileLoc loc;
+};
+
+struct RootSettings {
+  enum class Source { scatter, file } source = Source::scatter;
+  int64_t count = 0;           // scatter: total count (0: use density)
+  double density = 0.0;        // scatter: roots per unit area (when count is 0)
+  std::vector<std::string> groups;  // scatter: only these face groups (empty: all)
+  /// scatter: only triangles within this distance of a guide root (0: off). Lets a groom emit on
+  /// the scalp of a mesh that has no face groups.
+  double near_guides = 0.0;
+  uint64_t seed = 1;
+  std::string file;            // file: .hair/.ply/.usda (first point of each strand) or .txt (x y z lines)
+  FileLoc loc;
+};
+
+struct InterpolationSettings {
+  enum class Method { streamline, fur, linear } method = Method::streamline;
+  int k = 4;                   // guides per root
+  double radius = 0.0;         // 0: unlimited
+  float falloff = 2.0f;        // weight ~ 1 / d^falloff
+  float skin_margin = 0.02f;   // scene units kept between strands and the skin
+  int lookahead_segments = 3;  // streamline: how far ahead on a guide the closest point may move per step
+  FileLoc loc;
+};
+
+struct OutputSettings {
+  std::string path_pattern;    // e.g. out/hair.####.usda (absolute); empty: none
+  std::string frames;          // e.g. "1-48" (empty: 1)
+  std::string preview_pattern; // e.g. out/preview.####.png
+  int preview_every = 0;       // write a preview every N frames (0: first frame only)
+  int preview_size = 800;
+  FileLoc loc;
+};
+
+struct GroomDesc {
+  std::string source;          // the groom file's path
+  std::string name;
+  std::string emitter_path;    // absolute
+  FileLoc emitter_loc;
+  EmitterAnimation animation;
+  std::string guides_path;     // absolute
+  FileLoc guides_loc;
+  RootSettings roots;
+  int points_per_strand = 32;
+  float width_root = 0.02f;
+  float width_tip = 0.005f;
+  InterpolationSettings interpolation;
+  PartingSettings partings;
+  std::vector<EffectDesc> effects;
+  DynamicsSettings dynamics;
+  OutputSettings output;
+};
+
+}  // namespace plume

@@ -1,0 +1,29 @@
+// Guides: the groomer's control strands, bound to the emitter at their roots.
+#pragma once
+
+#include <vector>
+
+#include "groom/mesh.h"
+#include "groom/mesh_query.h"
+#include "groom/strand_set.h"
+
+namespace plume {
+
+struct Guides {
+  /// Rest-pose strands, emitter object space; each has at least 2 points.
+  StrandSet strands;
+  /// One per guide: the surface point closest to the guide's first point on the rest mesh.
+  std::vector<SurfacePoint> roots;
+  size_t size() const { return roots.size(); }
+};
+
+/// Binds each strand's first point to the closest surface point of the rest mesh.
+/// Throws InputError (naming `source`) if a strand has fewer than 2 points.
+Guides bind_guides(const MeshQuery &rest_query, StrandSet rest_strands, const std::string &source);
+
+/// The guides as the skin carries them to a deformed pose, without dynamics: each guide keeps
+/// its shape in its root's surface frame (rest frame -> posed frame), and its root point keeps
+/// its offset from the surface in that frame.
+StrandSet carry_guides(const Mesh &rest_mesh, const Mesh &posed_mesh, const Guides &guides);
+
+}  // namespace plume

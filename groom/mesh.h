@@ -1,0 +1,71 @@
+// The emitter: a triangle mesh with optional UVs and face groups, and the surface points and
+// frames that roots and guides are bound to.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace plume {
+
+struct Mesh {
+  /// #V by 3, scene units.
+  std::vector<Eigen::Vector3f> positions;
+  /// #F vertex index triples (polygons are fan-triangulated by the reader).
+  std::vector<Eigen::Vector3i> triangles;
+  /// #UV texture coordinates; empty when the mesh has none.
+  std::vector<Eigen::Vector2f> uvs;
+  /// #F uv index triples; empty when the mesh has no UVs.
+  std::vector<Eigen::Vector3i> triangle_uvs;
+  /// #F indices into group_names (OBJ `g` / `usemtl`); every face has one, "default" if unnamed.
+  std::vector<int> triangle_groups;
+  std::vector<std::string> group_names;
+  /// #V area-weighted vertex normals; fill with compute_normals() after changing positions.
+  std::vector<Eigen::Vector3f> vertex_normals;
+
+  size_t vertex_count() const { return positions.size(); }
+  size_t triangle_count() const { return triangles.size(); }
+  bool has_uvs() const { return !triangle_uvs.empty(); }
+
+  void compute_normals();
+  double triangle_area(size_t triangle) const;
+  Eigen::Vector3f face_normal(size_t triangle) const;  // unit; zero for a degenerate face
+  /// Index of a group by name, or -1.
+  int group_index(const std::string &name) const;
+  /// Throws InputError naming `source` when an index is out of range, a value is not finite,
+  /// or every triangle is degenerate. Degenerate triangles alone are allowed (they get no roots).
+  void validate(const std::string &source) const;
+};
+
+/// A point on the surface: a triangle and barycentric weights (w0 + w1 + w2 == 1).
+struct SurfacePoint {
+  int32_t triangle = -1;
+  Eigen::Vector3f bary = Eigen::Vector3f(1.0f, 0.0f, 0.0f);
+};
+
+Eigen::Vector3f surface_position(const Mesh &mesh, const SurfacePoint &sp);
+/// Interpolated vertex normal, normalised.
+Eigen::Vector3f surface_normal(const Mesh &mesh, const SurfacePoint &sp);
+/// (0,0) when the mesh has no UVs.
+Eigen::Vector2f surface_uv(const Mesh &mesh, const SurfacePoint &sp);
+
+/// An orthonormal frame at a surface point: columns of `basis` are (tangent, bitangent, normal).
+/// The tangent follows the UV u direction when the mesh has UVs, else the triangle's first edge,
+/// projected onto the plane of the interpolated normal. Both are carried by the triangle as it
+/// deforms, so the frame turns with the skin and never spins (feather thesis, sec. 3.2.1).
+struct SurfaceFrame {
+  Eigen::Vector3f origin = Eigen::Vector3f::Zero();
+  Eigen::Matrix3f basis = Eigen::Matrix3f::Identity();
+
+  Eigen::Vector3f normal() const { return basis.col(2); }
+  Eigen::Vector3f to_local(const Eigen::Vector3f &world) const { return basis.transpose() * (world - origin); }
+  Eigen::Vector3f to_world(const Eigen::Vector3f &local) const { return origin + basis * local; }
+  Eigen::Vector3f dir_to_local(const Eigen::Vector3f &d) const { return basis.transpose() * d; }
+  Eigen::Vector3f dir_to_world(const Eigen::Vector3f &d) const { return basis * d; }
+};
+
+SurfaceFrame surface_frame(const Mesh &mesh, const SurfacePoint &sp);
+
+}  // namespace plume

@@ -1,0 +1,87 @@
+#include "groom/mesh_query.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <cmath>
+#include <vector>
+
+#include "groom/error.h"
+
+namespace plume {
+
+namespace {
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using TriangleIterator = std::vector<Triangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+// Barycentric coordinates of p (on or near triangle abc), computed in double.
+Eigen::Vector3f barycentric(const Eigen::Vector3d &p, const Eigen::Vector3d &a, const Eigen::Vector3d &b,
+                            const Eigen::Vector3d &c) {
+  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = p - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
+  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double denom = d00 * d11 - d01 * d01;
+  if (!(denom > 0.0)) return Eigen::Vector3f(1.0f, 0.0f, 0.0f);
+  double v = (d11 * d20 - d01 * d21) / denom;
+  double w = (d00 * d21 - d01 * d20) / denom;
+  v = std::clamp(v, 0.0, 1.0);
+  w = std::clamp(w, 0.0, 1.0 - v);
+  return Eigen::Vector3f(float(1.0 - v - w), float(v), float(w));
+}
+}  // namespace
+
+struct MeshQuery::Tree {
+  std::vector<Triangle> triangles;
+  std::vector<int> triangle_ids;  // index into mesh.triangles for each stored triangle
+  ::plume::Tree tree;
+};
+
+MeshQuery::MeshQuery(const Mesh &mesh) : mesh_(mesh), tree_(std::make_unique<Tree>()) {
+  tree_->triangles.reserve(mesh.triangle_count());
+  for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+    if (!(mesh.triangle_area(f) > 0.0)) continue;
+    const Eigen::Vector3i &t = mesh.triangles[f];
+    auto point = [&](int v) {
+      const Eigen::Vector3f &p = mesh.positions[v];
+      return Point(p.x(), p.y(), p.z());
+    };
+    tree_->triangles.emplace_back(point(t[0]), point(t[1]), point(t[2]));
+    tree_->triangle_ids.push_back(int(f));
+  }
+  if (tree_->triangles.empty()) throw InputError("mesh: every triangle is degenerate (zero area)");
+  tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
+  tree_->tree.build();
+  tree_->tree.accelerate_distance_queries();
+}
+
+MeshQuery::~MeshQuery() = default;
+
+SurfacePoint MeshQuery::closest(const Eigen::Vector3f &point) const {
+  const auto [closest_point, primitive_id] = tree_->tree.closest_point_and_primitive(Point(point.x(), point.y(), point.z()));
+  const size_t stored = size_t(primitive_id - tree_->triangles.cbegin());
+  SurfacePoint sp;
+  sp.triangle = tree_->triangle_ids[stored];
+  const Eigen::Vector3i &t = mesh_.triangles[sp.triangle];
+  sp.bary = barycentric(Eigen::Vector3d(closest_point.x(), closest_point.y(), closest_point.z()),
+                        mesh_.positions[t[0]].cast<double>(), mesh_.positions[t[1]].cast<double>(),
+                        mesh_.positions[t[2]].cast<double>());
+  return sp;
+}
+
+float MeshQuery::signed_distance(const Eigen::Vector3f &point, SurfacePoint *r_closest) const {
+  const SurfacePoint sp = closest(point);
+  if (r_closest) *r_closest = sp;
+  const Eigen::Vector3f offset = point - surface_position(mesh_, sp);
+  const float distance = offset.norm();
+  const Eigen::Vector3f n = surface_normal(mesh_, sp);
+  const float side = offset.dot(n);
+  return side < 0.0f ? -distance : distance;
+}
+
+}  // namespace plume

@@ -1,0 +1,34 @@
+// Closest-point queries on an emitter mesh (a CGAL AABB tree, kept inside mesh_query.cpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+
+#include "groom/mesh.h"
+
+namespace plume {
+
+/// Built once for a mesh pose; query from any number of threads. The mesh must outlive it,
+/// and its positions must not change while it is in use (build a new one per deformed pose).
+class MeshQuery {
+ public:
+  explicit MeshQuery(const Mesh &mesh);
+  ~MeshQuery();
+  MeshQuery(const MeshQuery &) = delete;
+  MeshQuery &operator=(const MeshQuery &) = delete;
+
+  /// The surface point closest to `point` (degenerate triangles are never returned).
+  SurfacePoint closest(const Eigen::Vector3f &point) const;
+  /// Distance to the surface, negative inside: the sign is that of (point - closest) . normal,
+  /// with the interpolated normal at the closest point (meaningful near a closed, outward-facing
+  /// surface; on an open mesh "inside" means "behind the skin").
+  float signed_distance(const Eigen::Vector3f &point, SurfacePoint *r_closest = nullptr) const;
+  const Mesh &mesh() const { return mesh_; }
+
+ private:
+  struct Tree;
+  const Mesh &mesh_;
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace plume

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Plume's two commands:
+#   ./dev.sh demo   install what is missing, build (Release), regrow the default groom into out/
+#   ./dev.sh test   install what is missing, build (Release), run the whole test suite
+set -euo pipefail
+cd "$(dirname "$0")"
+
+mode=${1:-}
+if [[ "$mode" != demo && "$mode" != test ]]; then
+  echo "usage: ./dev.sh demo | test" >&2
+  exit 2
+fi
+
+packages=(cmake make g++ libeigen3-dev libnanoflann-dev libcgal-dev libgmp-dev libmpfr-dev catch2
+          libyaml-cpp-dev libcli11-dev libpng-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+# The test suite loads written USD files with a reader nobody here wrote (tinyusdz, under Node).
+if [[ "$mode" == test ]] && ! command -v npm >/dev/null 2>&1; then missing+=(nodejs npm); fi
+if ((${#missing[@]})); then
+  if [[ $(id -u) -ne 0 ]]; then
+    echo "Plume needs these Debian packages. Install them, then run this command again:" >&2
+    echo "  sudo apt-get update && sudo apt-get install -y ${missing[*]}" >&2
+    exit 1
+  fi
+  echo "== installing: ${missing[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+jobs=$(nproc)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$jobs"
+
+if [[ "$mode" == demo ]]; then
+  groom=grooms/sintel/sintel.groom.yaml
+  echo "== regrowing $groom, frames 1-48, into out/sintel/"
+  build/app/plume regrow "$groom" --frames 1-48 --out out/sintel/hair.####.usda --preview out/sintel/preview.####.png
+  echo "== done: out/sintel/hair.0001.usda .. hair.0048.usda, previews out/sintel/preview.*.png"
+else
+  if [[ ! -d build/node/node_modules/tinyusdz ]]; then
+    echo "== installing the tinyusdz USD reader (npm) into build/node"
+    mkdir -p build/node
+    npm install --silent --no-audit --no-fund --prefix build/node tinyusdz >/dev/null
+  fi
+  ctest --test-dir build --output-on-failure -j"$jobs"
+fi

@@ -1,0 +1,57 @@
+// The effects stack (Hair Designer "hair effects"): clumps, tension, length, waviness, frizz and curl,
+// applied in order to the strands grown each frame, stable from frame to frame.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "groom/effect_desc.h"
+#include "groom/guides.h"
+#include "groom/mesh.h"
+#include "groom/mesh_query.h"
+#include "groom/roots.h"
+#include "groom/strand_set.h"
+
+namespace plume::interp {
+
+/// The rest-pose data a stack needs, computed once: clump assignment, per-root rest frames,
+/// per-root scale (face groups x vertex map). Apply it every frame; `apply` is const and may be
+/// called from several frames concurrently.
+///
+/// Stability: every random choice is hashed from (effect seed, strand id), and noise is evaluated
+/// in each root's rest frame, so a frame regrown alone, with any thread count, gives the same bits.
+class EffectStack {
+ public:
+  /// `effects`: the ordered stack (empty is allowed). `roots`: the dense roots on `rest_mesh`, one per
+  /// strand, ids stable. `guides`: rest guides. `nearest_guide`: one guide index per root (from the
+  /// binding; -1 when the root has none). Throws InputError when a vertex map cannot be read or its
+  /// count differs from the mesh's vertex count, or when a group name is not a face group of the mesh.
+  EffectStack(const std::vector<EffectDesc> &effects, const Mesh &rest_mesh, const Roots &roots,
+              const Guides &guides, const std::vector<int32_t> &nearest_guide);
+  ~EffectStack();
+  EffectStack(EffectStack &&) noexcept;
+  EffectStack &operator=(EffectStack &&) noexcept;
+
+  /// Applies the stack in order to `r_strands`, grown this frame (strand i has id roots.ids[i], same
+  /// order as the roots; every strand has at least 2 points). `posed_mesh` is the emitter at this frame
+  /// (same topology as the rest mesh) and `posed_query` a query on it; `guides_this_frame` the guides at
+  /// this frame (same order as the rest guides). Point counts never change. Ends with no point inside
+  /// the skin: points closer than `skin_margin` (scene units) are pushed out along the normal.
+  void apply(const Mesh &posed_mesh, const MeshQuery &posed_query, const StrandSet &guides_this_frame,
+             float skin_margin, StrandSet &r_strands) const;
+
+  /// True when the stack has no effect (apply then only pushes points out of the skin).
+  bool empty() const;
+
+  struct Prepared;  // one per effect, defined in effects.cpp
+
+ private:
+  std::vector<Prepared> effects_;
+  std::vector<SurfacePoint> root_points_;  // one per strand (rest binding)
+  std::vector<uint64_t> ids_;              // one per strand
+  std::vector<int32_t> nearest_guide_;     // one per strand, -1: none
+  std::vector<SurfaceFrame> rest_frames_;  // one per strand: the root's surface frame on the rest mesh
+};
+
+}  // namespace plume::interp

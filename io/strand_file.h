@@ -1,0 +1,52 @@
+// Reads and writes strand sets in the interchange formats of ../shared/FORMATS.md:
+// USD BasisCurves `.usda`, Cem Yuksel's `.hair`, binary `.ply` with edges, and OBJ `l` segments.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "groom/strand_set.h"
+
+namespace plume::io {
+
+/// Reads strands, choosing the format by extension (case-insensitive):
+/// - `.hair`: segments (or the default segment count), points, thickness as widths when present;
+///   ids 0..n-1.
+/// - `.ply`: ascii or binary_little_endian; `vertex` x/y/z (float or double), optional `width`;
+///   either `edge` vertex1/vertex2 chained into strands, or a per-vertex `strand`/`curve` id
+///   (consecutive vertices with the same id form one strand); ids 0..n-1.
+/// - `.usda`: the BasisCurves subset write_strands produces: curveVertexCounts, points, widths
+///   (vertex or constant), primvars:groom_id as ids (else 0..n-1).
+/// - `.obj`: `v` lines and `l` lines; consecutive `l` lines that share an end point are chained
+///   into one strand; ids 0..n-1.
+/// Every strand has at least 2 points. Throws InputError with `file:line` (text) or
+/// `file@byte N` (binary) and what was expected, for any malformed, truncated or non-finite input.
+StrandSet read_strands(const std::string &path);
+
+struct StrandWriteOptions {
+  /// Empty, or one (u, v) per strand: the root's UV on the emitter, written as `primvars:st` (.usda).
+  std::vector<Eigen::Vector2f> root_uvs;
+  /// Diameter written when the set has no widths (scene units).
+  float constant_width = 0.01f;
+  /// USD layer metadata `metersPerUnit` (0.01: scene units are centimetres).
+  double meters_per_unit = 0.01;
+  /// When set, the USD layer gets startTimeCode = endTimeCode = *time_code and the points are
+  /// authored as a time sample at that code.
+  std::optional<double> time_code;
+  /// USD `timeCodesPerSecond` (written only with a time code).
+  double fps = 24.0;
+  /// Free text: the `.usda` layer doc, the `.hair` header info (first 87 bytes), a PLY/OBJ comment.
+  std::string comment;
+};
+
+/// Writes strands, choosing the format by extension: `.usda`, `.hair`, `.ply` (binary little
+/// endian, vertex + one edge per segment, `width` per vertex when present) or `.obj` (`v` lines and
+/// one two-index `l` per segment). Floats are written in their shortest form that reads back
+/// exactly. The file appears whole or not at all (AtomicFile). Throws InputError on an unknown
+/// extension or a strand the format cannot hold (.hair: more than 65,536 points per strand),
+/// InternalError when `strands` breaks its invariants.
+void write_strands(const std::string &path, const StrandSet &strands, const StrandWriteOptions &options = {});
+
+}  // namespace plume::io

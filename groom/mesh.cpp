@@ -111,11 +111,15 @@ SurfaceFrame surface_frame(const Mesh &mesh, const SurfacePoint &sp) {
   SurfaceFrame frame;
   frame.origin = surface_position(mesh, sp);
   const Eigen::Vector3f n = surface_normal(mesh, sp);
-  Eigen::Vector3f tangent = triangle_tangent(mesh, sp.triangle);
-  tangent -= n * n.dot(tangent);  // Gram-Schmidt against the normal
-  if (tangent.squaredNorm() < 1e-20f) {
-    // Tangent parallel to the normal (a folded triangle): any perpendicular keeps the frame valid.
-    tangent = n.unitOrthogonal();
+  const Eigen::Vector3f raw = triangle_tangent(mesh, sp.triangle);
+  Eigen::Vector3f tangent = raw - n * n.dot(raw);  // Gram-Schmidt against the normal
+  if (tangent.squaredNorm() <= 1e-6f * raw.squaredNorm() || tangent.squaredNorm() < 1e-30f) {
+    // Tangent (nearly) parallel to the normal: a sliver or folded triangle. Fall back to the face
+    // normal's plane, which such a triangle still carries rigidly.
+    const Eigen::Vector3i &t = mesh.triangles[sp.triangle];
+    const Eigen::Vector3f e2 = mesh.positions[t[2]] - mesh.positions[t[0]];
+    tangent = e2 - n * n.dot(e2);
+    if (tangent.squaredNorm() <= 1e-6f * e2.squaredNorm() || tangent.squaredNorm() < 1e-30f) tangent = n.unitOrthogonal();
   }
   tangent.normalize();
   frame.basis.col(0) = tangent;

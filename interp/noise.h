@@ -1,0 +1,28 @@
+// Seeded 3D simplex noise for waviness and frizz: smooth, cheap (4 corners per sample), and the same
+// bits on every machine (only float add/multiply and floor; no transcendental functions).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+
+namespace plume::interp {
+
+/// Simplex noise in 3D (Perlin 2001, in Gustavson's formulation) over a lattice of unit spacing,
+/// with a permutation shuffled from `seed` (so two seeds give unrelated fields). Periodic with
+/// period 256 along each axis. Values lie in [-1, 1]; the field is C1 (kernel radius^2 = 0.5, so
+/// each corner's contribution and its gradient vanish before the next simplex).
+class SimplexNoise3 {
+ public:
+  explicit SimplexNoise3(uint64_t seed);
+
+  /// One channel at `p` (lattice units: about one bump per unit).
+  float at(const Eigen::Vector3f &p) const;
+  /// Three decorrelated channels: the field sampled at three offsets far apart in the period.
+  Eigen::Vector3f vector_at(const Eigen::Vector3f &p) const;
+
+ private:
+  std::array<uint8_t, 512> perm_;  // a shuffle of 0..255, stored twice to skip a wrap
+};
+
+}  // namespace plume::interp

@@ -1,0 +1,108 @@
+#include "app/frame_range.h"
+
+#include <cctype>
+#include <charconv>
+#include <cstdio>
+
+#include "groom/error.h"
+
+namespace plume {
+
+namespace {
+
+// Reads an optionally signed integer at text[pos], advancing pos; false if there is none.
+bool read_int(const std::string &text, size_t &pos, int &r_value) {
+  const char *begin = text.data() + pos;
+  const char *end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(begin, end, r_value);
+  if (ec != std::errc() || ptr == begin) return false;
+  pos += size_t(ptr - begin);
+  return true;
+}
+
+struct FrameField {
+  size_t begin = std::string::npos;  // npos: no field
+  size_t length = 0;
+  int padding = 0;
+};
+
+FrameField find_frame_field(const std::string &pattern) {
+  FrameField found;
+  auto add = [&](size_t begin, size_t length, int padding) {
+    if (found.begin != std::string::npos)
+      throw InputError("output pattern \"" + pattern + "\": expected one frame field (#### or %04d), got two");
+    found = {begin, length, padding};
+  };
+  for (size_t i = 0; i < pattern.size();) {
+    if (pattern[i] == '#') {
+      size_t j = i;
+      while (j < pattern.size() && pattern[j] == '#') ++j;
+      add(i, j - i, int(j - i));
+      i = j;
+    } else if (pattern[i] == '%') {
+      size_t j = i + 1;
+      if (j < pattern.size() && pattern[j] == '%') {  // a literal percent sign
+        i = j + 1;
+        continue;
+      }
+      int padding = 0;
+      while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j])))
+        padding = padding * 10 + (pattern[j++] - '0');
+      if (j >= pattern.size() || pattern[j] != 'd' || padding > 16)
+        throw InputError("output pattern \"" + pattern + "\": expected a frame field like %04d after '%'");
+      add(i, j + 1 - i, padding);
+      i = j + 1;
+    } else {
+      ++i;
+    }
+  }
+  return found;
+}
+
+}  // namespace
+
+std::vector<int> FrameRange::frames() const {
+  std::vector<int> result;
+  for (int f = first; f <= last; f += step) result.push_back(f);
+  return result;
+}
+
+FrameRange parse_frame_range(const std::string &text, const std::string &what) {
+  auto fail = [&](const std::string &why) {
+    return InputError(what + ": expected a frame range like 1-48, 1-240:2 or 7, got \"" + text + "\"" +
+                      (why.empty() ? "" : " (" + why + ")"));
+  };
+  FrameRange range;
+  size_t pos = 0;
+  if (!read_int(text, pos, range.first)) throw fail("");
+  range.last = range.first;
+  if (pos < text.size() && text[pos] == '-') {
+    ++pos;
+    if (!read_int(text, pos, range.last)) throw fail("");
+  }
+  if (pos < text.size() && text[pos] == ':') {
+    ++pos;
+    if (!read_int(text, pos, range.step)) throw fail("");
+  }
+  if (pos != text.size()) throw fail("");
+  if (range.last < range.first) throw fail("the last frame is before the first");
+  if (range.step < 1) throw fail("the step must be at least 1");
+  return range;
+}
+
+bool has_frame_field(const std::string &pattern) { return find_frame_field(pattern).begin != std::string::npos; }
+
+std::string expand_frame_pattern(const std::string &pattern, int frame) {
+  const FrameField field = find_frame_field(pattern);
+  std::string result = pattern;
+  if (field.begin != std::string::npos) {
+    char digits[32];
+    std::snprintf(digits, sizeof digits, "%0*d", field.padding, frame);
+    result.replace(field.begin, field.length, digits);
+  }
+  // Literal "%%" stands for one percent sign in printf-style patterns.
+  for (size_t i = result.find("%%"); i != std::string::npos; i = result.find("%%", i + 1)) result.erase(i, 1);
+  return result;
+}
+
+}  // namespace plume

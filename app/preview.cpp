@@ -1,0 +1,285 @@
+#include "app/preview.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "groom/error.h"
+#include "groom/roots.h"
+#include "io/atomic_file.h"
+
+namespace plume {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// The camera's view basis and projection onto a square raster of `size` pixels.
+struct Projector {
+  Eigen::Vector3f eye, right, up, forward;
+  float focal = 1.0f;  // pixels per unit of (x / z)
+  float half = 0.0f;   // half the raster size, pixels
+  float near = 1e-3f;
+
+  Projector(const PreviewCamera &camera, int size) {
+    eye = camera.eye;
+    forward = (camera.target - camera.eye).normalized();
+    right = forward.cross(camera.up).normalized();
+    up = right.cross(forward);
+    half = 0.5f * float(size);
+    focal = half / std::tan(0.5f * camera.fov_y_degrees * kPi / 180.0f);
+    near = 1e-4f * (camera.target - camera.eye).norm();
+  }
+  // (screen x, screen y, view depth); depth <= near means behind the camera.
+  Eigen::Vector3f project(const Eigen::Vector3f &p) const {
+    const Eigen::Vector3f d = p - eye;
+    const float z = d.dot(forward);
+    if (z <= near) return {0.0f, 0.0f, z};
+    return {half + focal * d.dot(right) / z, half - focal * d.dot(up) / z, z};
+  }
+};
+
+struct Raster {
+  int size = 0;
+  std::vector<Eigen::Vector3f> color;  // linear RGB
+  std::vector<float> depth;            // view depth, +inf where empty
+
+  Raster(int size_, const PreviewStyle &style) : size(size_), color(size_t(size_) * size_), depth(size_t(size_) * size_) {
+    std::fill(depth.begin(), depth.end(), std::numeric_limits<float>::infinity());
+    for (int y = 0; y < size; ++y) {
+      const float a = float(y) / float(std::max(size - 1, 1));
+      const Eigen::Vector3f c = (1.0f - a) * style.background_top + a * style.background_bottom;
+      std::fill(color.begin() + size_t(y) * size, color.begin() + size_t(y + 1) * size, c);
+    }
+  }
+};
+
+// Lights are fixed relative to the camera so every view is lit the same way: a key light from the
+// upper left in front of the subject, a dim fill from the right, and a rim light from behind.
+struct Lights {
+  Eigen::Vector3f key, fill, rim;
+  explicit Lights(const Projector &proj) {
+    key = (-0.55f * proj.right + 0.65f * proj.up - 0.55f * proj.forward).normalized();
+    fill = (0.8f * proj.right + 0.1f * proj.up - 0.6f * proj.forward).normalized();
+    rim = (0.2f * proj.right + 0.6f * proj.up + 0.8f * proj.forward).normalized();
+  }
+};
+
+void draw_mesh(const Mesh &mesh, const Projector &proj, const Lights &lights, const PreviewStyle &style,
+               Raster &r_raster) {
+  std::vector<Eigen::Vector3f> screen(mesh.vertex_count());
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) screen[v] = proj.project(mesh.positions[v]);
+  const int size = r_raster.size;
+  for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+    const Eigen::Vector3i &tri = mesh.triangles[f];
+    const Eigen::Vector3f &a = screen[tri[0]], &b = screen[tri[1]], &c = screen[tri[2]];
+    if (a.z() <= proj.near || b.z() <= proj.near || c.z() <= proj.near) continue;
+    const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    if (std::abs(area) < 1e-12f) continue;
+    const int x0 = std::max(0, int(std::floor(std::min({a.x(), b.x(), c.x()}))));
+    const int x1 = std::min(size - 1, int(std::ceil(std::max({a.x(), b.x(), c.x()}))));
+    const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()}))));
+    const int y1 = std::min(size - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+    const Eigen::Vector3f inv_z(1.0f / a.z(), 1.0f / b.z(), 1.0f / c.z());
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const float px = float(x) + 0.5f, py = float(y) + 0.5f;
+        // Screen-space barycentrics from the edge functions (either winding).
+        float w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) / area;
+        float w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) / area;
+        float w2 = 1.0f - w0 - w1;
+        if (w0 < 0.0f || w1 < 0.0f || w2 < 0.0f) continue;
+        // Perspective-correct interpolation: 1/z is linear in screen space.
+        const Eigen::Vector3f pw(w0 * inv_z[0], w1 * inv_z[1], w2 * inv_z[2]);
+        const float sum = pw.sum();
+        const float z = 1.0f / sum;
+        const size_t pixel = size_t(y) * size + x;
+        if (!(z < r_raster.depth[pixel])) continue;
+        r_raster.depth[pixel] = z;
+        const Eigen::Vector3f bary = pw / sum;
+        Eigen::Vector3f n = (bary[0] * mesh.vertex_normals[tri[0]] + bary[1] * mesh.vertex_normals[tri[1]] +
+                             bary[2] * mesh.vertex_normals[tri[2]]);
+        if (n.squaredNorm() < 1e-20f) n = mesh.face_normal(f);
+        n.normalize();
+        const Eigen::Vector3f p = bary[0] * mesh.positions[tri[0]] + bary[1] * mesh.positions[tri[1]] +
+                                  bary[2] * mesh.positions[tri[2]];
+        const Eigen::Vector3f view = (proj.eye - p).normalized();
+        if (n.dot(view) < 0.0f) n = -n;  // two-sided
+        const float key = std::max(0.0f, n.dot(lights.key));
+        const float fill = std::max(0.0f, n.dot(lights.fill));
+        const float rim = std::pow(1.0f - std::max(0.0f, n.dot(view)), 3.0f) * std::max(0.0f, n.dot(lights.rim) + 0.3f);
+        r_raster.color[pixel] = style.skin_color * (0.08f + 0.85f * key + 0.25f * fill) +
+                                Eigen::Vector3f(0.25f, 0.25f, 0.3f) * rim;
+      }
+    }
+  }
+}
+
+// Kajiya-Kay: a fibre scatters light in the cone around its tangent T, so the diffuse term is
+// sin(T, L) and the specular term is the cosine between the reflection cone and the view,
+// sin(T, H)^p with H the half vector. `occlusion` darkens the inside of the hair near the roots.
+Eigen::Vector3f shade_hair(const Eigen::Vector3f &tangent, const Eigen::Vector3f &view, const Lights &lights,
+                           const Eigen::Vector3f &base, float occlusion) {
+  auto sin_between = [](const Eigen::Vector3f &t, const Eigen::Vector3f &d) {
+    const float c = t.dot(d);
+    return std::sqrt(std::max(0.0f, 1.0f - c * c));
+  };
+  const float key = sin_between(tangent, lights.key);
+  const float fill = sin_between(tangent, lights.fill);
+  const Eigen::Vector3f half_key = (lights.key + view).normalized();
+  const float spec = std::pow(sin_between(tangent, half_key), 90.0f);
+  const float spec_wide = std::pow(sin_between(tangent, half_key), 12.0f);
+  const Eigen::Vector3f diffuse = base * (0.06f + 0.9f * key + 0.2f * fill);
+  const Eigen::Vector3f specular =
+      0.35f * spec * Eigen::Vector3f(1.0f, 0.95f, 0.9f) + 0.25f * spec_wide * base.cwiseSqrt().cwiseProduct(base);
+  return occlusion * (diffuse + specular);
+}
+
+// Draws every segment of `strands` as a line of `brush` x `brush` raster pixels, depth-tested.
+// Lines are stepped one pixel at a time along their major axis; depth is 1/z-interpolated.
+void draw_strands(const StrandSet &strands, const Projector &proj, const Lights &lights,
+                  const Eigen::Vector3f &color, bool vary_per_strand, int brush, Raster &r_raster) {
+  const int size = r_raster.size;
+  for (size_t s = 0; s < strands.strand_count(); ++s) {
+    const auto points = strands.points(s);
+    if (points.size() < 2) continue;
+    // Per-strand tone variation, hashed from the strand id so it is stable across frames.
+    Eigen::Vector3f base = color;
+    if (vary_per_strand) {
+      const uint64_t id = s < strands.ids.size() ? strands.ids[s] : s;
+      const float h = hash_to_unit(hash64(id));
+      base *= 0.7f + 0.6f * h;
+    }
+    const float segment_count = float(points.size() - 1);
+    for (size_t i = 0; i + 1 < points.size(); ++i) {
+      const Eigen::Vector3f d = points[i + 1] - points[i];
+      if (d.squaredNorm() == 0.0f) continue;
+      const Eigen::Vector3f tangent = d.normalized();
+      const Eigen::Vector3f mid = 0.5f * (points[i] + points[i + 1]);
+      const Eigen::Vector3f view = (proj.eye - mid).normalized();
+      // Hair near the scalp sits under other hair: darken the first third of every strand.
+      const float along = (float(i) + 0.5f) / segment_count;
+      const float occlusion = vary_per_strand ? 0.3f + 0.7f * std::min(1.0f, along / 0.35f) : 1.0f;
+      const Eigen::Vector3f c = shade_hair(tangent, view, lights, base, occlusion);
+      const Eigen::Vector3f a = proj.project(points[i]);
+      const Eigen::Vector3f b = proj.project(points[i + 1]);
+      if (a.z() <= proj.near || b.z() <= proj.near) continue;
+      const float dx = b.x() - a.x(), dy = b.y() - a.y();
+      const int steps = std::max(1, int(std::ceil(std::max(std::abs(dx), std::abs(dy)))));
+      const float inv_za = 1.0f / a.z(), inv_zb = 1.0f / b.z();
+      for (int k = 0; k <= steps; ++k) {
+        const float t = float(k) / float(steps);
+        const int x = int(std::floor(a.x() + t * dx)) - brush / 2;
+        const int y = int(std::floor(a.y() + t * dy)) - brush / 2;
+        const float z = 1.0f / (inv_za + t * (inv_zb - inv_za));
+        for (int by = y; by < y + brush; ++by) {
+          if (by < 0 || by >= size) continue;
+          for (int bx = x; bx < x + brush; ++bx) {
+            if (bx < 0 || bx >= size) continue;
+            const size_t pixel = size_t(by) * size + bx;
+            if (!(z < r_raster.depth[pixel])) continue;
+            r_raster.depth[pixel] = z;
+            r_raster.color[pixel] = c;
+          }
+        }
+      }
+    }
+  }
+}
+
+uint8_t encode(float linear) {
+  const float v = std::pow(std::clamp(linear, 0.0f, 1.0f), 1.0f / 2.2f);
+  return uint8_t(std::lround(v * 255.0f));
+}
+
+}  // namespace
+
+PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3f &up, const Eigen::Vector3f &front,
+                         float yaw_degrees, float pitch_degrees) {
+  PreviewCamera camera;
+  camera.up = up.normalized();
+  camera.target = bounds.center();
+  const Eigen::Vector3f dir = (Eigen::AngleAxisf(yaw_degrees * kPi / 180.0f, camera.up) *
+                               Eigen::AngleAxisf(-pitch_degrees * kPi / 180.0f, front.cross(camera.up).normalized()) *
+                               front.normalized())
+                                  .normalized();
+  // The bounding sphere fits in the vertical field of view with a 5% margin.
+  const float radius = std::max(0.5f * bounds.diagonal().norm(), 1e-6f);
+  const float half_fov = 0.5f * camera.fov_y_degrees * kPi / 180.0f;
+  camera.eye = camera.target + dir * (1.05f * radius / std::sin(half_fov));
+  return camera;
+}
+
+Eigen::AlignedBox3f scene_bounds(const Mesh &mesh, const StrandSet &strands) {
+  Eigen::AlignedBox3f box;
+  for (const Eigen::Vector3f &p : mesh.positions) box.extend(p);
+  for (const Eigen::Vector3f &p : strands.positions) box.extend(p);
+  if (box.isEmpty()) box.extend(Eigen::Vector3f::Zero());
+  return box;
+}
+
+Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const StrandSet &strands, const StrandSet *guides,
+                     const PreviewStyle &style) {
+  const int ss = std::max(1, style.supersample);
+  const int raster_size = style.size * ss;
+  const Projector proj(camera, raster_size);
+  const Lights lights(proj);
+  Raster raster(raster_size, style);
+  draw_mesh(mesh, proj, lights, style, raster);
+  draw_strands(strands, proj, lights, style.hair_color, true, 1, raster);
+  if (guides) draw_strands(*guides, proj, lights, style.guide_color, false, ss, raster);
+
+  Image image;
+  image.width = image.height = style.size;
+  image.rgb.resize(size_t(style.size) * style.size * 3);
+  const float norm = 1.0f / float(ss * ss);
+  for (int y = 0; y < style.size; ++y) {
+    for (int x = 0; x < style.size; ++x) {
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      for (int sy = 0; sy < ss; ++sy)
+        for (int sx = 0; sx < ss; ++sx) sum += raster.color[size_t(y * ss + sy) * raster_size + (x * ss + sx)];
+      sum *= norm;
+      uint8_t *out = &image.rgb[(size_t(y) * style.size + x) * 3];
+      for (int k = 0; k < 3; ++k) out[k] = encode(sum[k]);
+    }
+  }
+  return image;
+}
+
+void write_png(const std::string &path, const Image &image) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  if (!png) throw InternalError("libpng: cannot create a write struct");
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw InternalError("libpng: cannot create an info struct");
+  }
+  // Encode to memory first, so a failure leaves no file; then write it atomically.
+  std::vector<uint8_t> encoded;
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw InternalError("libpng: encoding " + path + " failed");
+  }
+  png_set_write_fn(
+      png, &encoded,
+      [](png_structp p, png_bytep data, png_size_t length) {
+        auto *buffer = static_cast<std::vector<uint8_t> *>(png_get_io_ptr(p));
+        buffer->insert(buffer->end(), data, data + length);
+      },
+      nullptr);
+  png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y)
+    png_write_row(png, const_cast<png_bytep>(&image.rgb[size_t(y) * image.width * 3]));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+
+  io::AtomicFile file(path);
+  file.write(encoded.data(), encoded.size());
+  file.commit();
+}
+
+}  // namespace plume

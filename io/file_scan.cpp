@@ -1,0 +1,124 @@
+#include "io/file_scan.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace plume::io::detail {
+
+std::string read_file_bytes(const std::string &path) {
+  std::unique_ptr<FILE, int (*)(FILE *)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) throw InputError(FileLoc{path}, std::string("cannot open file: ") + std::strerror(errno));
+  std::string bytes;
+  char buffer[1 << 16];
+  size_t got = 0;
+  while ((got = std::fread(buffer, 1, sizeof(buffer), file.get())) > 0) bytes.append(buffer, got);
+  if (std::ferror(file.get())) throw InputError(FileLoc{path}, std::string("cannot read file: ") + std::strerror(errno));
+  return bytes;
+}
+
+std::string extension_of(const std::string &path) {
+  const size_t slash = path.find_last_of("/\\");
+  const size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+std::string quoted(std::string_view token) {
+  constexpr size_t kMaxShown = 40;
+  std::string s = "\"";
+  for (size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
+    const unsigned char c = (unsigned char)token[i];
+    if (c >= 32 && c < 127) {
+      s += char(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", c);
+      s += hex;
+    }
+  }
+  if (token.size() > kMaxShown) s += "...";
+  return s + "\"";
+}
+
+bool LineCursor::next() {
+  if (next_start_ >= text_.size()) return false;
+  const size_t newline = text_.find('\n', next_start_);
+  const size_t end = newline == std::string_view::npos ? text_.size() : newline;
+  line_ = text_.substr(next_start_, end - next_start_);
+  if (!line_.empty() && line_.back() == '\r') line_.remove_suffix(1);
+  next_start_ = newline == std::string_view::npos ? text_.size() : newline + 1;
+  ++line_number_;
+  return true;
+}
+
+size_t LineCursor::lines_left() const {
+  if (next_start_ >= text_.size()) return 0;
+  const std::string_view rest = text_.substr(next_start_);
+  const size_t newlines = size_t(std::count(rest.begin(), rest.end(), '\n'));
+  return newlines + (rest.back() == '\n' ? 0 : 1);
+}
+
+FileLoc LineCursor::loc(std::string_view at) const {
+  FileLoc loc{path_, line_number_};
+  if (!at.empty() && at.data() >= line_.data() && at.data() <= line_.data() + line_.size())
+    loc.column = int(at.data() - line_.data()) + 1;
+  return loc;
+}
+
+void LineCursor::fail(std::string_view at, const std::string &message) const { throw InputError(loc(at), message); }
+
+std::string_view LineCursor::take_token(std::string_view &rest) {
+  size_t begin = 0;
+  while (begin < rest.size() && (rest[begin] == ' ' || rest[begin] == '\t')) ++begin;
+  size_t end = begin;
+  while (end < rest.size() && rest[end] != ' ' && rest[end] != '\t') ++end;
+  const std::string_view token = rest.substr(begin, end - begin);
+  rest.remove_prefix(end);
+  return token;
+}
+
+float LineCursor::to_float(std::string_view token, std::string_view what) const {
+  if (token.empty()) fail(line_.substr(line_.size()), std::string(what) + ": expected a number, got the end of the line");
+  std::string_view digits = token;
+  if (digits.front() == '+') digits.remove_prefix(1);
+  float value = 0.0f;
+  const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (result.ec == std::errc::result_out_of_range)
+    fail(token, std::string(what) + ": expected a finite number, got " + quoted(token) + " (out of float range)");
+  if (result.ec != std::errc() || result.ptr != digits.data() + digits.size())
+    fail(token, std::string(what) + ": expected a number, got " + quoted(token));
+  if (!std::isfinite(value)) fail(token, std::string(what) + ": expected a finite number, got " + quoted(token));
+  return value;
+}
+
+long long LineCursor::to_int(std::string_view token, std::string_view what) const {
+  if (token.empty()) fail(line_.substr(line_.size()), std::string(what) + ": expected an integer, got the end of the line");
+  std::string_view digits = token;
+  if (digits.front() == '+') digits.remove_prefix(1);
+  long long value = 0;
+  const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (result.ec != std::errc() || result.ptr != digits.data() + digits.size())
+    fail(token, std::string(what) + ": expected an integer, got " + quoted(token));
+  return value;
+}
+
+void ByteCursor::require(size_t offset, uint64_t count, uint64_t item_bytes, std::string_view what) const {
+  const uint64_t available = offset <= bytes_.size() ? bytes_.size() - offset : 0;
+  // Divide rather than multiply so that a count near 2^64 cannot overflow.
+  if (item_bytes != 0 && count > available / item_bytes)
+    fail(offset, std::string(what) + ": expected " + std::to_string(count) + " x " + std::to_string(item_bytes) +
+                     " bytes, file ends after " + std::to_string(available));
+}
+
+float ByteCursor::finite_float(size_t offset, const std::string &what) const {
+  const float value = get<float>(offset);
+  if (!std::isfinite(value)) fail(offset, what + ": expected a finite number, got " + std::to_string(value));
+  return value;
+}
+
+}  // namespace plume::io::detail

@@ -1,0 +1,112 @@
+// Helpers shared by the readers and writers in io/: whole-file loading, a line cursor and a byte
+// cursor that turn every problem into an InputError at `file:line:col` or `file@byte N`, and
+// shortest round-trip number formatting.
+#pragma once
+
+#include <bit>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <string_view>
+
+#include "groom/error.h"
+
+namespace plume::io::detail {
+
+static_assert(std::endian::native == std::endian::little, "the binary readers assume a little-endian host");
+
+/// The whole file as bytes. Throws InputError naming the file when it is missing or unreadable.
+std::string read_file_bytes(const std::string &path);
+
+/// Lower-case extension with its dot (".usda"), or "" when the name has none.
+std::string extension_of(const std::string &path);
+
+/// Quotes a token for a message, cutting it short and escaping bytes that are not printable.
+std::string quoted(std::string_view token);
+
+/// Walks a text buffer line by line; line() excludes the newline and a trailing '\r'.
+class LineCursor {
+ public:
+  LineCursor(std::string_view text, const std::string &path) : text_(text), path_(path) {}
+
+  /// Moves to the next line; false at the end of the text.
+  bool next();
+  std::string_view line() const { return line_; }
+  int line_number() const { return line_number_; }
+  /// Offset of the first byte after the current line (where binary data after a text header starts).
+  size_t end_offset() const { return next_start_; }
+  const std::string &path() const { return path_; }
+  /// Lines left after the current one (counting a last line without newline).
+  size_t lines_left() const;
+
+  /// Location of `at` (a view into line()) or of the line itself.
+  FileLoc loc(std::string_view at = {}) const;
+  [[noreturn]] void fail(std::string_view at, const std::string &message) const;
+  [[noreturn]] void fail(const std::string &message) const { fail({}, message); }
+
+  /// Next whitespace-separated token of `rest`, consuming it; empty when there is none.
+  static std::string_view take_token(std::string_view &rest);
+  /// Parses a finite float; `what` names the value in the message.
+  float to_float(std::string_view token, std::string_view what) const;
+  /// Parses an integer.
+  long long to_int(std::string_view token, std::string_view what) const;
+
+ private:
+  std::string_view text_;
+  std::string path_;
+  std::string_view line_;
+  size_t next_start_ = 0;
+  int line_number_ = 0;
+};
+
+/// Reads little-endian values from a byte buffer, failing with the byte offset.
+class ByteCursor {
+ public:
+  ByteCursor(std::string_view bytes, const std::string &path) : bytes_(bytes), path_(path) {}
+
+  size_t size() const { return bytes_.size(); }
+  const std::string &path() const { return path_; }
+  FileLoc loc(size_t offset) const { return FileLoc{path_, 0, 0, (long long)offset}; }
+  [[noreturn]] void fail(size_t offset, const std::string &message) const { throw InputError(loc(offset), message); }
+
+  /// Throws "`what`: expected `count` x `item_bytes` bytes, file ends after R" unless the bytes fit.
+  void require(size_t offset, uint64_t count, uint64_t item_bytes, std::string_view what) const;
+
+  template <class T>
+  T get(size_t offset) const {
+    T value;
+    std::memcpy(&value, bytes_.data() + offset, sizeof(T));
+    return value;
+  }
+  /// A float that must be finite; `what` names it in the message.
+  float finite_float(size_t offset, const std::string &what) const;
+
+ private:
+  std::string_view bytes_;
+  std::string path_;
+};
+
+/// Shortest decimal form that reads back to exactly the same float (std::to_chars).
+inline void append_number(std::string &out, float value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out.append(buffer, result.ptr);
+}
+inline void append_number(std::string &out, double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out.append(buffer, result.ptr);
+}
+inline void append_number(std::string &out, long long value) {
+  char buffer[24];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out.append(buffer, result.ptr);
+}
+inline void append_number(std::string &out, unsigned long long value) {
+  char buffer[24];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out.append(buffer, result.ptr);
+}
+
+}  // namespace plume::io::detail

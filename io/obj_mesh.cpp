@@ -1,0 +1,176 @@
+#include "io/obj_mesh.h"
+
+#include <array>
+#include <unordered_map>
+
+#include "io/file_scan.h"
+
+namespace plume::io {
+namespace {
+
+using detail::LineCursor;
+
+/// Names seen by one kind of grouping statement (usemtl, g or o), and each face's name.
+struct GroupTable {
+  std::vector<std::string> names;
+  std::unordered_map<std::string, int> index_of;
+  std::vector<int> face_group;  // one per triangle; -1 before the first statement of this kind
+  int current = -1;
+  bool seen = false;
+
+  void set(std::string_view name) {
+    seen = true;
+    const std::string key(name.empty() ? std::string_view("default") : name);
+    const auto [it, inserted] = index_of.emplace(key, int(names.size()));
+    if (inserted) names.push_back(key);
+    current = it->second;
+  }
+};
+
+/// Resolves one OBJ index (1-based, or negative counting back from the last element read).
+int resolve_index(const LineCursor &cursor, std::string_view token, long long index, size_t count,
+                  std::string_view what) {
+  const long long resolved = index < 0 ? (long long)count + index : index - 1;
+  if (index == 0 || resolved < 0 || resolved >= (long long)count)
+    cursor.fail(token, "f: " + std::string(what) + " index " + std::to_string(index) + " out of range, expected 1.." +
+                           std::to_string(count) + " or -" + std::to_string(count) + "..-1 (" + std::to_string(count) +
+                           " " + std::string(what) + "s read so far)");
+  return int(resolved);
+}
+
+Mesh parse_obj(const std::string &path) {
+  const std::string text = detail::read_file_bytes(path);
+  LineCursor cursor(text, path);
+  Mesh mesh;
+  size_t normal_count = 0;
+  bool every_face_has_uvs = true;
+  std::array<GroupTable, 3> groups;  // usemtl, g, o: the first kind the file uses names the face groups
+  std::vector<std::array<int, 2>> corners;  // (vertex, uv or -1) of the current face
+
+  while (cursor.next()) {
+    std::string_view rest = cursor.line();
+    if (const size_t hash = rest.find('#'); hash != std::string_view::npos) rest = rest.substr(0, hash);
+    const std::string_view keyword = LineCursor::take_token(rest);
+    if (keyword == "v") {
+      Eigen::Vector3f p;
+      p.x() = cursor.to_float(LineCursor::take_token(rest), "v: x");
+      p.y() = cursor.to_float(LineCursor::take_token(rest), "v: y");
+      p.z() = cursor.to_float(LineCursor::take_token(rest), "v: z");
+      mesh.positions.push_back(p);
+    } else if (keyword == "vt") {
+      Eigen::Vector2f uv(cursor.to_float(LineCursor::take_token(rest), "vt: u"), 0.0f);
+      if (const std::string_view v = LineCursor::take_token(rest); !v.empty()) uv.y() = cursor.to_float(v, "vt: v");
+      mesh.uvs.push_back(uv);
+    } else if (keyword == "vn") {
+      for (const char *axis : {"vn: x", "vn: y", "vn: z"}) cursor.to_float(LineCursor::take_token(rest), axis);
+      ++normal_count;
+    } else if (keyword == "f") {
+      corners.clear();
+      bool face_has_uvs = true;
+      for (std::string_view token = LineCursor::take_token(rest); !token.empty();
+           token = LineCursor::take_token(rest)) {
+        // v, v/vt, v/vt/vn or v//vn
+        const size_t slash1 = token.find('/');
+        const std::string_view v_part = token.substr(0, slash1);
+        std::string_view vt_part, vn_part;
+        if (slash1 != std::string_view::npos) {
+          const size_t slash2 = token.find('/', slash1 + 1);
+          vt_part = token.substr(slash1 + 1, slash2 == std::string_view::npos ? std::string_view::npos : slash2 - slash1 - 1);
+          if (slash2 != std::string_view::npos) vn_part = token.substr(slash2 + 1);
+        }
+        const int v = resolve_index(cursor, token, cursor.to_int(v_part, "f: vertex index"), mesh.positions.size(), "vertex");
+        int vt = -1;
+        if (!vt_part.empty())
+          vt = resolve_index(cursor, token, cursor.to_int(vt_part, "f: uv index"), mesh.uvs.size(), "uv");
+        else
+          face_has_uvs = false;
+        if (!vn_part.empty()) resolve_index(cursor, token, cursor.to_int(vn_part, "f: normal index"), normal_count, "normal");
+        corners.push_back({v, vt});
+      }
+      if (corners.size() < 3)
+        cursor.fail("f: expected at least 3 corners, got " + std::to_string(corners.size()));
+      every_face_has_uvs = every_face_has_uvs && face_has_uvs;
+      // Fan triangulation around the first corner.
+      for (size_t k = 1; k + 1 < corners.size(); ++k) {
+        mesh.triangles.emplace_back(corners[0][0], corners[k][0], corners[k + 1][0]);
+        mesh.triangle_uvs.emplace_back(corners[0][1], corners[k][1], corners[k + 1][1]);
+        for (GroupTable &table : groups) table.face_group.push_back(table.current);
+      }
+    } else if (keyword == "usemtl") {
+      groups[0].set(LineCursor::take_token(rest));
+    } else if (keyword == "g") {
+      groups[1].set(LineCursor::take_token(rest));
+    } else if (keyword == "o") {
+      groups[2].set(LineCursor::take_token(rest));
+    }
+    // Other statements (s, mtllib, l, p, curves) do not shape the emitter.
+  }
+
+  if (!every_face_has_uvs) {
+    mesh.triangle_uvs.clear();
+    mesh.uvs.clear();
+  }
+  const GroupTable *chosen = nullptr;
+  for (const GroupTable &table : groups)
+    if (table.seen) {
+      chosen = &table;
+      break;
+    }
+  if (chosen == nullptr) {
+    mesh.group_names = {"default"};
+    mesh.triangle_groups.assign(mesh.triangles.size(), 0);
+  } else {
+    // Faces before the first grouping statement go to "default", added only when used.
+    mesh.group_names = chosen->names;
+    int default_group = -1;
+    mesh.triangle_groups.resize(mesh.triangles.size());
+    for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+      int group = chosen->face_group[f];
+      if (group < 0) {
+        if (default_group < 0) {
+          const auto it = chosen->index_of.find("default");
+          default_group = it != chosen->index_of.end() ? it->second : int(mesh.group_names.size());
+          if (it == chosen->index_of.end()) mesh.group_names.push_back("default");
+        }
+        group = default_group;
+      }
+      mesh.triangle_groups[f] = group;
+    }
+  }
+  return mesh;
+}
+
+std::string vertex_triple(const Eigen::Vector3i &t) {
+  return std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1);
+}
+
+}  // namespace
+
+Mesh read_obj_mesh(const std::string &path) {
+  Mesh mesh = parse_obj(path);
+  mesh.validate(path);
+  mesh.compute_normals();
+  return mesh;
+}
+
+Mesh read_obj_pose(const std::string &path, const Mesh &rest) {
+  Mesh frame = parse_obj(path);
+  if (frame.vertex_count() != rest.vertex_count())
+    throw InputError(FileLoc{path}, "vertex count: expected " + std::to_string(rest.vertex_count()) +
+                                        " as in the rest mesh, got " + std::to_string(frame.vertex_count()));
+  if (frame.triangle_count() != rest.triangle_count())
+    throw InputError(FileLoc{path}, "triangle count: expected " + std::to_string(rest.triangle_count()) +
+                                        " as in the rest mesh, got " + std::to_string(frame.triangle_count()));
+  for (size_t f = 0; f < rest.triangle_count(); ++f)
+    if (frame.triangles[f] != rest.triangles[f])
+      throw InputError(FileLoc{path}, "triangle " + std::to_string(f + 1) + ": expected vertices " +
+                                          vertex_triple(rest.triangles[f]) + " as in the rest mesh, got " +
+                                          vertex_triple(frame.triangles[f]));
+  Mesh posed = rest;
+  posed.positions = std::move(frame.positions);
+  posed.validate(path);
+  posed.compute_normals();
+  return posed;
+}
+
+}  // namespace plume::io

@@ -1,7 +1,9 @@
 #include "io/yaml_fields.h"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <map>
 
 namespace plume::io {
 
@@ -26,6 +28,13 @@ std::optional<double> as_number(const YAML::Node &node) {
   const double v = std::strtod(s.c_str(), &end);
   if (end != s.c_str() + s.size() || errno == ERANGE) return std::nullopt;
   return v;
+}
+
+/// Shortest readable form of a number for messages ("0.5", "1e+08").
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
 }
 }  // namespace
 
@@ -54,7 +63,12 @@ double node_number(const YAML::Node &node, const std::string &path, const std::s
 Eigen::Vector3f node_vec3(const YAML::Node &node, const std::string &path, const std::string &file) {
   if (!node.IsSequence() || node.size() != 3) fail_expected(file, node, path, "a list of 3 numbers [x, y, z]");
   Eigen::Vector3f v;
-  for (int i = 0; i < 3; ++i) v[i] = float(node_number(node[i], path + "[" + std::to_string(i) + "]", file));
+  for (int i = 0; i < 3; ++i) {
+    const std::string item = path + "[" + std::to_string(i) + "]";
+    v[i] = float(node_number(node[i], item, file));
+    // A finite double can still overflow the float it is stored in.
+    if (!std::isfinite(v[i])) fail_expected(file, node[i], item, "a finite number");
+  }
   return v;
 }
 
@@ -66,6 +80,11 @@ YamlMap::YamlMap(const YAML::Node &node, std::string path, const std::string &fi
 
 bool YamlMap::has(const std::string &key) const {
   return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+}
+
+bool YamlMap::given(const std::string &key) {
+  asked_.insert(key);
+  return has(key);
 }
 
 FileLoc YamlMap::loc(const std::string &key) const {
@@ -87,7 +106,7 @@ double YamlMap::number(const std::string &key) {
 double YamlMap::number_in(const std::string &key, double fallback, double lo, double hi) {
   const double v = number(key, fallback);
   if (v < lo || v > hi) {
-    std::string range = "a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    std::string range = "a number in [" + format_number(lo) + ", " + format_number(hi) + "]";
     fail_expected(file_, node_[key], key_path(key), range);
   }
   return v;
@@ -192,6 +211,16 @@ YAML::Node YamlMap::node(const std::string &key) {
 
 void YamlMap::finish() const {
   if (!node_.IsMap()) return;
+  // yaml-cpp keeps the first of two equal keys and drops the other silently: report it instead.
+  std::map<std::string, int> first_line;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string key = it->first.Scalar();
+    const FileLoc key_loc = node_loc(file_, it->first);
+    const auto [seen, inserted] = first_line.emplace(key, key_loc.line);
+    if (!inserted)
+      throw InputError(key_loc, key_path(key) + ": duplicate key (first given at line " +
+                                    std::to_string(seen->second) + ")");
+  }
   for (auto it = node_.begin(); it != node_.end(); ++it) {
     const std::string key = it->first.Scalar();
     if (asked_.count(key)) continue;

@@ -29,6 +29,8 @@ class YamlMap {
   YamlMap(const YAML::Node &node, std::string path, const std::string &file);
 
   bool has(const std::string &key) const;
+  /// has(), and marks `key` as known (so a key written with no value, `key:`, is not "unknown").
+  bool given(const std::string &key);
   const std::string &path() const { return path_; }
   const std::string &file() const { return file_; }
   std::string key_path(const std::string &key) const { return path_.empty() ? key : path_ + "." + key; }

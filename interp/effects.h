@@ -52,6 +52,7 @@ class EffectStack {
   std::vector<uint64_t> ids_;              // one per strand
   std::vector<int32_t> nearest_guide_;     // one per strand, -1: none
   std::vector<SurfaceFrame> rest_frames_;  // one per strand: the root's surface frame on the rest mesh
+  std::vector<SurfacePoint> guide_roots_;  // one per guide (rest binding)
 };
 
 }  // namespace plume::interp

@@ -1,0 +1,525 @@
+#include "interp/effects.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+#include "groom/error.h"
+#include "interp/interpolate.h"
+#include "interp/noise.h"
+
+namespace plume::interp {
+
+namespace {
+
+constexpr float kTwoPi = 6.28318530717958647692f;
+
+// Salts that keep the random draws of one effect independent of each other.
+constexpr uint64_t kSaltClumpOrder = 0x636c756d70ull;  // "clump"
+constexpr uint64_t kSaltStray = 0x7374726179ull;       // "stray"
+constexpr uint64_t kSaltFraction = 0x6672616374ull;    // "fract"
+constexpr uint64_t kSaltLength = 0x6c656e677468ull;    // "length"
+constexpr uint64_t kSaltPhase = 0x7068617365ull;       // "phase"
+constexpr uint64_t kSaltOffset = 0x6f6666736574ull;    // "offset"
+
+/// The shortest strand the length effect leaves, as a fraction of the strand's length before it.
+constexpr float kMinLengthFraction = 0.05f;
+
+float strand_param(int64_t j, int64_t n) { return float(j) / float(n - 1); }
+
+/// Point of a polyline at index parameter t in [0, 1] (t * (n - 1) between points, linear).
+Eigen::Vector3f sample_at(std::span<const Eigen::Vector3f> pts, float t, Eigen::Vector3f *r_direction) {
+  const int64_t n = int64_t(pts.size());
+  const float u = std::clamp(t, 0.0f, 1.0f) * float(n - 1);
+  const int64_t k = std::min<int64_t>(int64_t(u), n - 2);
+  const float a = u - float(k);
+  if (r_direction) *r_direction = pts[k + 1] - pts[k];
+  return pts[k] + a * (pts[k + 1] - pts[k]);
+}
+
+/// Point of a polyline at arc length `s` given its cumulative lengths `cum` (cum[0] = 0); past the
+/// tip it continues straight along the last segment.
+Eigen::Vector3f point_at_length(std::span<const Eigen::Vector3f> pts, std::span<const float> cum, float s) {
+  const int64_t n = int64_t(pts.size());
+  if (s >= cum[n - 1]) {
+    const Eigen::Vector3f last = pts[n - 1] - pts[n - 2];
+    const float seg = last.norm();
+    return seg > 0.0f ? Eigen::Vector3f(pts[n - 1] + last * ((s - cum[n - 1]) / seg)) : pts[n - 1];
+  }
+  const int64_t k = std::upper_bound(cum.begin(), cum.begin() + n, s) - cum.begin() - 1;
+  const float seg = cum[k + 1] - cum[k];
+  const float a = seg > 0.0f ? (s - cum[k]) / seg : 0.0f;
+  return pts[k] + a * (pts[k + 1] - pts[k]);
+}
+
+void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float> &r_cum) {
+  r_cum.resize(pts.size());
+  r_cum[0] = 0.0f;
+  for (size_t j = 1; j < pts.size(); ++j) r_cum[j] = r_cum[j - 1] + (pts[j] - pts[j - 1]).norm();
+}
+
+/// Unit tangent at point j of a polyline (central difference inside, one-sided at the ends).
+Eigen::Vector3f tangent_at(std::span<const Eigen::Vector3f> pts, size_t j) {
+  const size_t a = j == 0 ? 0 : j - 1;
+  const size_t b = j + 1 == pts.size() ? j : j + 1;
+  return (pts[b] - pts[a]).normalized();
+}
+
+/// Standard normal draw from two hashes (Box-Muller).
+float normal_from_hash(uint64_t h) {
+  const float u1 = std::max(hash_to_unit(h), 1e-7f);
+  const float u2 = hash_to_unit(hash64(h));
+  return std::sqrt(-2.0f * std::log(u1)) * std::cos(kTwoPi * u2);
+}
+
+/// Reads an emitter vertex map: one finite number per line ('#' starts a comment, blank lines are
+/// skipped), exactly `vertex_count` numbers.
+std::vector<float> read_vertex_map(const std::string &path, size_t vertex_count, const FileLoc &effect_loc) {
+  std::ifstream in(path);
+  if (!in) throw InputError(effect_loc, "vertex_map: cannot open \"" + path + "\"");
+  std::vector<float> values;
+  values.reserve(vertex_count);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    const size_t last = line.find_last_not_of(" \t\r");
+    const std::string token = line.substr(first, last - first + 1);
+    const FileLoc loc{path, line_number, int(first) + 1};
+    size_t used = 0;
+    float v = 0.0f;
+    try {
+      v = std::stof(token, &used);
+    } catch (const std::exception &) {
+      used = 0;
+    }
+    if (used != token.size()) throw InputError(loc, "expected one number per line, got \"" + token + "\"");
+    if (!std::isfinite(v)) throw InputError(loc, "expected a finite number, got \"" + token + "\"");
+    values.push_back(v);
+  }
+  if (values.size() != vertex_count)
+    throw InputError(FileLoc{path, line_number, 0}, "expected " + std::to_string(vertex_count) +
+                                                        " values (one per emitter vertex), got " +
+                                                        std::to_string(values.size()));
+  return values;
+}
+
+/// Clump centres by greedy Poisson-disk selection over the rest root positions: strands are visited
+/// in an order hashed from (seed, id), and one becomes a centre when no earlier centre lies within
+/// `radius`. Every strand then joins its nearest centre (within `radius`, since the selection is
+/// maximal). Depends only on the ids and rest positions, so it is the same on every frame.
+std::vector<int32_t> poisson_clumps(const std::vector<Eigen::Vector3f> &rest_roots, const std::vector<uint64_t> &ids,
+                                    float radius, uint64_t seed) {
+  const size_t n = rest_roots.size();
+  std::vector<uint64_t> priority(n);
+  for (size_t i = 0; i < n; ++i) priority[i] = hash_combine(hash_combine(seed, kSaltClumpOrder), ids[i]);
+  std::vector<int32_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) {
+    return priority[a] != priority[b] ? priority[a] < priority[b] : ids[a] < ids[b];
+  });
+
+  // Uniform grid of cell size `radius`: centres within `radius` of a point lie in its 27 neighbour cells.
+  auto cell_of = [&](const Eigen::Vector3f &p) {
+    return Eigen::Vector3i(int(std::floor(p.x() / radius)), int(std::floor(p.y() / radius)),
+                           int(std::floor(p.z() / radius)));
+  };
+  auto key_of = [](const Eigen::Vector3i &c) {
+    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
+           uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+  };
+  std::unordered_map<uint64_t, std::vector<int32_t>> grid;
+  const float r2 = radius * radius;
+  auto nearest_centre = [&](const Eigen::Vector3f &p, float max_d2) {
+    const Eigen::Vector3i c = cell_of(p);
+    int32_t best = -1;
+    float best_d2 = max_d2;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(key_of(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == grid.end()) continue;
+          for (int32_t centre : it->second) {
+            const float d2 = (rest_roots[centre] - p).squaredNorm();
+            if (d2 < best_d2 || (d2 == best_d2 && best >= 0 && ids[centre] < ids[best])) {
+              best = centre;
+              best_d2 = d2;
+            }
+          }
+        }
+    return best;
+  };
+  for (int32_t i : order)
+    if (nearest_centre(rest_roots[i], r2) < 0) grid[key_of(cell_of(rest_roots[i]))].push_back(i);
+
+  std::vector<int32_t> centre_of(n);
+  for (size_t i = 0; i < n; ++i) {
+    const int32_t c = nearest_centre(rest_roots[i], r2 * 1.0001f + 1e-12f);
+    if (c < 0) throw InternalError("poisson_clumps: a strand has no centre within the clump radius");
+    centre_of[i] = c;
+  }
+  return centre_of;
+}
+
+/// One clump per guide: the centre is the strand whose rest root is nearest the guide's root among
+/// the strands whose nearest guide it is (ties: smaller id).
+std::vector<int32_t> guide_clumps(const std::vector<Eigen::Vector3f> &rest_roots, const std::vector<uint64_t> &ids,
+                                  const std::vector<int32_t> &nearest_guide,
+                                  const std::vector<Eigen::Vector3f> &guide_rest_roots) {
+  std::vector<int32_t> best(guide_rest_roots.size(), -1);
+  for (size_t i = 0; i < rest_roots.size(); ++i) {
+    const int32_t g = nearest_guide[i];
+    if (g < 0) continue;
+    int32_t &b = best[g];
+    const float d = (rest_roots[i] - guide_rest_roots[g]).squaredNorm();
+    if (b < 0) {
+      b = int32_t(i);
+      continue;
+    }
+    const float db = (rest_roots[b] - guide_rest_roots[g]).squaredNorm();
+    if (d < db || (d == db && ids[i] < ids[b])) b = int32_t(i);
+  }
+  std::vector<int32_t> centre_of(rest_roots.size(), -1);
+  for (size_t i = 0; i < rest_roots.size(); ++i)
+    if (nearest_guide[i] >= 0) centre_of[i] = best[nearest_guide[i]];
+  return centre_of;
+}
+
+/// Scratch arrays of one thread, reused from strand to strand (no allocation once grown).
+struct Scratch {
+  std::vector<Eigen::Vector3f> points;
+  std::vector<float> cum;
+};
+
+}  // namespace
+
+struct EffectStack::Prepared {
+  EffectDesc desc;
+  /// One per strand: amount x face-group mask x vertex map x (stray / fraction selection); 0 = untouched.
+  std::vector<float> strength;
+  /// Clumps only: one per strand, the index of its centre strand (-1: none).
+  std::vector<int32_t> centre_of;
+  SimplexNoise3 noise;
+
+  explicit Prepared(const EffectDesc &d) : desc(d), noise(d.seed) {}
+};
+
+EffectStack::EffectStack(const std::vector<EffectDesc> &effects, const Mesh &rest_mesh, const Roots &roots,
+                         const Guides &guides, const std::vector<int32_t> &nearest_guide)
+    : root_points_(roots.points), ids_(roots.ids), nearest_guide_(nearest_guide), guide_roots_(guides.roots) {
+  const size_t n = roots.size();
+  if (nearest_guide.size() != n || ids_.size() != n)
+    throw InternalError("EffectStack: one id and one nearest guide per root expected");
+  for (int32_t g : nearest_guide)
+    if (g >= int32_t(guides.size())) throw InternalError("EffectStack: nearest guide out of range");
+
+  rest_frames_.resize(n);
+  std::vector<Eigen::Vector3f> rest_roots(n);
+  for (size_t i = 0; i < n; ++i) {
+    rest_frames_[i] = surface_frame(rest_mesh, root_points_[i]);
+    rest_roots[i] = rest_frames_[i].origin;
+  }
+
+  for (const EffectDesc &desc : effects) {
+    Prepared prepared(desc);
+    const uint64_t seed = desc.seed;
+    std::vector<float> &strength = prepared.strength;
+    strength.assign(n, desc.amount);
+
+    if (!desc.groups.empty()) {
+      std::vector<bool> in_group(rest_mesh.group_names.size(), false);
+      for (const std::string &name : desc.groups) {
+        const int g = rest_mesh.group_index(name);
+        if (g < 0) throw InputError(desc.loc, "groups: \"" + name + "\" is not a face group of the emitter");
+        in_group[g] = true;
+      }
+      for (size_t i = 0; i < n; ++i)
+        if (!in_group[rest_mesh.triangle_groups[root_points_[i].triangle]]) strength[i] = 0.0f;
+    }
+    if (!desc.vertex_map_path.empty()) {
+      const std::vector<float> map = read_vertex_map(desc.vertex_map_path, rest_mesh.vertex_count(), desc.loc);
+      for (size_t i = 0; i < n; ++i) {
+        const SurfacePoint &sp = root_points_[i];
+        const Eigen::Vector3i &tri = rest_mesh.triangles[sp.triangle];
+        strength[i] *= sp.bary[0] * map[tri[0]] + sp.bary[1] * map[tri[1]] + sp.bary[2] * map[tri[2]];
+      }
+    }
+
+    switch (desc.type) {
+      case EffectType::clump: {
+        if (desc.clump_centers == EffectDesc::ClumpCenters::per_guide) {
+          std::vector<Eigen::Vector3f> guide_rest_roots(guides.size());
+          for (size_t g = 0; g < guides.size(); ++g) guide_rest_roots[g] = surface_position(rest_mesh, guides.roots[g]);
+          prepared.centre_of = guide_clumps(rest_roots, ids_, nearest_guide, guide_rest_roots);
+        } else {
+          if (!(desc.clump_radius > 0.0f)) throw InputError(desc.loc, "clump_radius: expected a positive number");
+          prepared.centre_of = poisson_clumps(rest_roots, ids_, desc.clump_radius, seed);
+        }
+        for (size_t i = 0; i < n; ++i) {
+          const int32_t c = prepared.centre_of[i];
+          // Centres are never written by their own clump pass (members read them concurrently).
+          if (c < 0 || c == int32_t(i)) strength[i] = 0.0f;
+          if (hash_to_unit(hash_combine(hash_combine(seed, kSaltStray), ids_[i])) < desc.stray_fraction)
+            strength[i] = 0.0f;
+        }
+        break;
+      }
+      case EffectType::tension:
+        for (size_t i = 0; i < n; ++i)
+          if (nearest_guide[i] < 0) strength[i] = 0.0f;
+        break;
+      case EffectType::length:
+        break;
+      case EffectType::wave:
+      case EffectType::frizz:
+      case EffectType::curl:
+        for (size_t i = 0; i < n; ++i)
+          if (hash_to_unit(hash_combine(hash_combine(seed, kSaltFraction), ids_[i])) >= desc.fraction)
+            strength[i] = 0.0f;
+        break;
+    }
+    effects_.push_back(std::move(prepared));
+  }
+}
+
+EffectStack::~EffectStack() = default;
+EffectStack::EffectStack(EffectStack &&) noexcept = default;
+EffectStack &EffectStack::operator=(EffectStack &&) noexcept = default;
+
+bool EffectStack::empty() const { return effects_.empty(); }
+
+namespace {
+
+/// Clump: d = P - C (C the centre strand at the same parameter t) becomes R(theta) (1 - w) d with
+/// w = strength * ramp(t) clamped to [0, 1] and R a rotation about the centre's tangent by
+/// theta = 2 pi * twist * strength * t. The centre strand is read as earlier effects left it.
+void apply_clump(const EffectStack::Prepared &e, size_t i, const StrandSet &strands, std::span<Eigen::Vector3f> pts) {
+  const float s = e.strength[i];
+  const std::span<const Eigen::Vector3f> centre = strands.points(size_t(e.centre_of[i]));
+  const int64_t n = int64_t(pts.size());
+  for (int64_t j = 1; j < n; ++j) {
+    const float t = strand_param(j, n);
+    Eigen::Vector3f axis;
+    const Eigen::Vector3f c = sample_at(centre, t, &axis);
+    const float w = std::clamp(s * e.desc.ramp.at(t), 0.0f, 1.0f);
+    Eigen::Vector3f d = (1.0f - w) * (pts[j] - c);
+    const float theta = kTwoPi * e.desc.clump_twist * s * t;
+    if (theta != 0.0f && axis.squaredNorm() > 0.0f) d = Eigen::AngleAxisf(theta, axis.normalized()) * d;
+    pts[j] = c + d;
+  }
+}
+
+/// Tension: the target is the nearest guide carried to the strand's root (minimal rotation taking the
+/// guide root's normal to the root's normal, offsets scaled to the strand's length, sampled at the same
+/// arc-length fraction); each point moves toward it by w = strength * ramp(t).
+void apply_tension(const EffectStack::Prepared &e, size_t i, std::span<const Eigen::Vector3f> guide,
+                   std::span<const float> guide_cum, const Eigen::Quaternionf &rotation,
+                   std::span<Eigen::Vector3f> pts, Scratch &scratch) {
+  const float s = e.strength[i];
+  const int64_t n = int64_t(pts.size());
+  cumulative_lengths(pts, scratch.cum);
+  const float length = scratch.cum[n - 1];
+  const float guide_length = guide_cum.back();
+  if (!(guide_length > 0.0f)) return;
+  const float scale = length / guide_length;
+  const Eigen::Vector3f root = pts[0];
+  for (int64_t j = 1; j < n; ++j) {
+    const float t = strand_param(j, n);
+    const Eigen::Vector3f g = point_at_length(guide, guide_cum, t * guide_length);
+    const Eigen::Vector3f target = root + rotation * ((g - guide[0]) * scale);
+    const float w = std::clamp(s * e.desc.ramp.at(t), 0.0f, 1.0f);
+    pts[j] += w * (target - pts[j]);
+  }
+}
+
+/// Length: target L' = L + strength * (min(L * f, max_length, L_cut) - L), f = 1 + variation * X with X
+/// uniform in [-1, 1] or standard normal, hashed from the id; L' >= 5% of L. The strand is then
+/// resampled evenly by arc length over [0, L'], continuing straight past the tip when it grows.
+void apply_length(const EffectStack::Prepared &e, size_t i, uint64_t id, const SurfaceFrame &rest_frame,
+                  const SurfaceFrame &posed_frame, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
+  const EffectDesc &d = e.desc;
+  const float s = e.strength[i];
+  const int64_t n = int64_t(pts.size());
+  scratch.points.assign(pts.begin(), pts.end());
+  cumulative_lengths(scratch.points, scratch.cum);
+  const float length = scratch.cum[n - 1];
+  if (!(length > 0.0f)) return;
+
+  const uint64_t h = hash_combine(hash_combine(d.seed, kSaltLength), id);
+  const float x = d.length_distribution == EffectDesc::LengthDistribution::normal ? normal_from_hash(h)
+                                                                                  : 2.0f * hash_to_unit(h) - 1.0f;
+  float target = length * (1.0f + d.length_variation * x);
+  if (d.max_length > 0.0f) target = std::min(target, d.max_length);
+  if (d.cut_plane) {
+    // The plane is given in rest-pose coordinates: test the strand as it sits in its root's rest frame,
+    // so the cut does not slide along the hair when the head moves.
+    auto side = [&](const Eigen::Vector3f &p) {
+      return (rest_frame.to_world(posed_frame.to_local(p)) - d.cut_point).dot(d.cut_normal);
+    };
+    float previous = side(scratch.points[0]);
+    float cut = previous > 0.0f ? 0.0f : length;
+    for (int64_t j = 1; j < n && cut == length && previous <= 0.0f; ++j) {
+      const float current = side(scratch.points[j]);
+      if (current > 0.0f) cut = scratch.cum[j - 1] + (scratch.cum[j] - scratch.cum[j - 1]) * (-previous / (current - previous));
+      previous = current;
+    }
+    target = std::min(target, cut);
+  }
+  float new_length = length + s * (target - length);
+  new_length = std::max(new_length, kMinLengthFraction * length);
+  if (new_length == length) return;
+  for (int64_t j = 1; j < n; ++j)
+    pts[j] = point_at_length(scratch.points, scratch.cum, new_length * strand_param(j, n));
+}
+
+/// Wave and frizz: each point p (root excluded) is expressed in its root's rest frame, q = R_rest (F_posed^-1 p);
+/// the displacement amplitude * strength * ramp(t) * noise(frequency * q + offset) is taken back to the posed
+/// frame and made perpendicular to the strand. Frizz adds a per-strand offset in the noise field, so
+/// neighbouring strands frizz independently; waves stay coherent between neighbours.
+void apply_noise(const EffectStack::Prepared &e, size_t i, uint64_t id, const SurfaceFrame &rest_frame,
+                 const SurfaceFrame &posed_frame, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
+  const EffectDesc &d = e.desc;
+  const float amplitude = d.amplitude * e.strength[i];
+  const int64_t n = int64_t(pts.size());
+  scratch.points.assign(pts.begin(), pts.end());
+  Eigen::Vector3f offset = Eigen::Vector3f::Zero();
+  if (d.type == EffectType::frizz) {
+    const uint64_t h = hash_combine(hash_combine(d.seed, kSaltOffset), id);
+    offset = Eigen::Vector3f(hash_to_unit(h), hash_to_unit(hash64(h)), hash_to_unit(hash64(h + 1))) * 256.0f;
+  }
+  // posed = posed_frame.basis * (rest_frame.basis^T (rest - rest_origin)) + posed_origin
+  const Eigen::Matrix3f rest_to_posed = posed_frame.basis * rest_frame.basis.transpose();
+  for (int64_t j = 1; j < n; ++j) {
+    const float t = strand_param(j, n);
+    const float a = amplitude * d.ramp.at(t);
+    if (a == 0.0f) continue;
+    const Eigen::Vector3f q = rest_frame.origin + rest_to_posed.transpose() * (scratch.points[j] - posed_frame.origin);
+    Eigen::Vector3f disp = rest_to_posed * (a * e.noise.vector_at(d.frequency * q + offset));
+    const Eigen::Vector3f tangent = tangent_at(scratch.points, size_t(j));
+    disp -= tangent * tangent.dot(disp);
+    pts[j] = scratch.points[j] + disp;
+  }
+}
+
+/// Curl: a helix around the strand. A rotation-minimising frame (U, V) is carried along the strand by
+/// double reflection (Wang et al. 2008) from U_0 = the root's surface tangent made perpendicular to the
+/// first tangent; point j moves by radius * strength * ramp(t) * (cos phi U + sin phi V) with
+/// phi = phi_0 + 2 pi * turns_per_unit * s_j (s_j arc length, phi_0 hashed from the id).
+void apply_curl(const EffectStack::Prepared &e, size_t i, uint64_t id, const SurfaceFrame &posed_frame,
+                std::span<Eigen::Vector3f> pts, Scratch &scratch) {
+  const EffectDesc &d = e.desc;
+  const float radius = d.curl_radius * e.strength[i];
+  const int64_t n = int64_t(pts.size());
+  scratch.points.assign(pts.begin(), pts.end());
+  cumulative_lengths(scratch.points, scratch.cum);
+  const std::span<const Eigen::Vector3f> p = scratch.points;
+  const float phase0 = kTwoPi * hash_to_unit(hash_combine(hash_combine(d.seed, kSaltPhase), id));
+
+  Eigen::Vector3f t_prev = tangent_at(p, 0);
+  Eigen::Vector3f u = posed_frame.basis.col(0) - t_prev * t_prev.dot(posed_frame.basis.col(0));
+  if (u.squaredNorm() < 1e-12f) u = t_prev.unitOrthogonal();
+  u.normalize();
+  for (int64_t j = 1; j < n; ++j) {
+    const Eigen::Vector3f t_cur = tangent_at(p, size_t(j));
+    // Double reflection: reflect (u, t) in the bisecting plane of the segment, then in the plane
+    // that takes the reflected tangent onto the new one.
+    const Eigen::Vector3f v1 = p[j] - p[j - 1];
+    const float c1 = v1.squaredNorm();
+    if (c1 > 0.0f) {
+      const Eigen::Vector3f u_l = u - (2.0f / c1) * v1.dot(u) * v1;
+      const Eigen::Vector3f t_l = t_prev - (2.0f / c1) * v1.dot(t_prev) * v1;
+      const Eigen::Vector3f v2 = t_cur - t_l;
+      const float c2 = v2.squaredNorm();
+      u = c2 > 1e-12f ? Eigen::Vector3f(u_l - (2.0f / c2) * v2.dot(u_l) * v2) : u_l;
+      u = (u - t_cur * t_cur.dot(u)).normalized();
+    }
+    t_prev = t_cur;
+    const float r = radius * d.ramp.at(strand_param(j, n));
+    if (r == 0.0f) continue;
+    const float phi = phase0 + kTwoPi * d.turns_per_unit * scratch.cum[j];
+    const Eigen::Vector3f v = t_cur.cross(u);
+    pts[j] = p[j] + r * (std::cos(phi) * u + std::sin(phi) * v);
+  }
+}
+
+}  // namespace
+
+void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, const StrandSet &guides_this_frame,
+                        float skin_margin, StrandSet &r_strands) const {
+  const int64_t n = int64_t(r_strands.strand_count());
+  if (size_t(n) != ids_.size() || r_strands.ids != ids_)
+    throw InternalError("EffectStack::apply: strands do not match the roots (count, order or ids)");
+  for (int64_t i = 0; i < n; ++i)
+    if (r_strands.points_in(size_t(i)) < 2) throw InternalError("EffectStack::apply: a strand has fewer than 2 points");
+
+  if (!effects_.empty()) {
+    std::vector<SurfaceFrame> posed_frames(static_cast<size_t>(n));
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n; ++i) posed_frames[i] = surface_frame(posed_mesh, root_points_[i]);
+
+    // Tension needs each guide's arc lengths and posed root normal once per frame.
+    const bool any_tension = std::any_of(effects_.begin(), effects_.end(),
+                                         [](const Prepared &e) { return e.desc.type == EffectType::tension; });
+    std::vector<float> guide_cum;
+    std::vector<Eigen::Vector3f> guide_normals;
+    if (any_tension) {
+      if (guides_this_frame.strand_count() != guide_roots_.size())
+        throw InternalError("EffectStack::apply: guide count differs from the binding");
+      guide_cum.resize(guides_this_frame.point_count());
+      std::vector<float> cum;
+      for (size_t g = 0; g < guide_roots_.size(); ++g) {
+        cumulative_lengths(guides_this_frame.points(g), cum);
+        std::copy(cum.begin(), cum.end(), guide_cum.begin() + guides_this_frame.offsets[g]);
+        guide_normals.push_back(surface_normal(posed_mesh, guide_roots_[g]));
+      }
+    }
+
+    for (const Prepared &e : effects_) {
+      // One pass per effect: a clump reads its centre strands as the previous effects left them.
+#pragma omp parallel
+      {
+        Scratch scratch;
+#pragma omp for schedule(static)
+        for (int64_t i = 0; i < n; ++i) {
+          if (e.strength[i] == 0.0f) continue;
+          const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
+          switch (e.desc.type) {
+            case EffectType::clump:
+              apply_clump(e, size_t(i), r_strands, pts);
+              break;
+            case EffectType::tension: {
+              const int32_t g = nearest_guide_[i];
+              const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
+                                               size_t(guides_this_frame.points_in(size_t(g))));
+              const Eigen::Quaternionf rotation =
+                  Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frames[i].normal());
+              apply_tension(e, size_t(i), guides_this_frame.points(size_t(g)), cum, rotation, pts, scratch);
+              break;
+            }
+            case EffectType::length:
+              apply_length(e, size_t(i), ids_[i], rest_frames_[i], posed_frames[i], pts, scratch);
+              break;
+            case EffectType::wave:
+            case EffectType::frizz:
+              apply_noise(e, size_t(i), ids_[i], rest_frames_[i], posed_frames[i], pts, scratch);
+              break;
+            case EffectType::curl:
+              apply_curl(e, size_t(i), ids_[i], posed_frames[i], pts, scratch);
+              break;
+          }
+        }
+      }
+    }
+  }
+  push_out_of_skin(posed_query, skin_margin, r_strands);
+}
+
+}  // namespace plume::interp

@@ -1,0 +1,101 @@
+// Strands as Wavefront OBJ polylines: `v` lines and `l` lines. Viewers keep only the first segment
+// of a longer `l`, so the writer puts one two-index `l` per segment and the reader chains
+// consecutive `l` lines that continue where the previous one ended.
+#include "io/file_scan.h"
+#include "io/strand_formats.h"
+
+namespace plume::io::detail {
+
+StrandSet read_obj_strands(const std::string &path) {
+  const std::string text = read_file_bytes(path);
+  LineCursor cursor(text, path);
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<int64_t> chain_offsets{0};  // strands as runs of `chain`
+  std::vector<int> chain;                 // vertex indices
+  while (cursor.next()) {
+    std::string_view rest = cursor.line();
+    if (const size_t hash = rest.find('#'); hash != std::string_view::npos) rest = rest.substr(0, hash);
+    const std::string_view keyword = LineCursor::take_token(rest);
+    if (keyword == "v") {
+      Eigen::Vector3f p;
+      p.x() = cursor.to_float(LineCursor::take_token(rest), "v: x");
+      p.y() = cursor.to_float(LineCursor::take_token(rest), "v: y");
+      p.z() = cursor.to_float(LineCursor::take_token(rest), "v: z");
+      vertices.push_back(p);
+    } else if (keyword == "l") {
+      const size_t line_start = chain.size();
+      for (std::string_view token = LineCursor::take_token(rest); !token.empty(); token = LineCursor::take_token(rest)) {
+        const long long index = cursor.to_int(token.substr(0, token.find('/')), "l: vertex index");
+        const long long count = (long long)vertices.size();
+        const long long resolved = index < 0 ? count + index : index - 1;
+        if (index == 0 || resolved < 0 || resolved >= count)
+          cursor.fail(token, "l: vertex index " + std::to_string(index) + " out of range, expected 1.." +
+                                 std::to_string(count) + " or -" + std::to_string(count) + "..-1 (" +
+                                 std::to_string(count) + " vertices read so far)");
+        chain.push_back(int(resolved));
+      }
+      const size_t index_num = chain.size() - line_start;
+      if (index_num < 2) cursor.fail("l: expected at least 2 vertex indices, got " + std::to_string(index_num));
+      // Continue the previous strand when this line starts where it ended.
+      const bool continues = chain_offsets.back() < int64_t(line_start) && chain[line_start - 1] == chain[line_start];
+      if (continues) {
+        chain.erase(chain.begin() + int64_t(line_start));
+        chain_offsets.back() = int64_t(chain.size());
+      } else {
+        chain_offsets.push_back(int64_t(chain.size()));
+      }
+    }
+  }
+  StrandSet strands;
+  strands.offsets = std::move(chain_offsets);
+  strands.positions.resize(chain.size());
+  for (size_t p = 0; p < chain.size(); ++p) strands.positions[p] = vertices[chain[p]];
+  strands.ids.resize(strands.strand_count());
+  for (size_t s = 0; s < strands.ids.size(); ++s) strands.ids[s] = s;
+  return strands;
+}
+
+void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options) {
+  std::string out;
+  out.reserve(kWriteBlockBytes + 256);
+  auto flush_if_full = [&] {
+    if (out.size() >= kWriteBlockBytes) {
+      file.write(out);
+      out.clear();
+    }
+  };
+  if (!options.comment.empty()) {
+    std::string_view rest = options.comment;
+    while (!rest.empty()) {
+      const size_t newline = rest.find('\n');
+      out += "# ";
+      out += rest.substr(0, newline);
+      out += '\n';
+      rest.remove_prefix(newline == std::string_view::npos ? rest.size() : newline + 1);
+    }
+  }
+  out += "# " + std::to_string(strands.strand_count()) + " strands, " + std::to_string(strands.point_count()) +
+         " points, one l per segment\n";
+  for (const Eigen::Vector3f &p : strands.positions) {
+    out += "v ";
+    append_number(out, p.x());
+    out += ' ';
+    append_number(out, p.y());
+    out += ' ';
+    append_number(out, p.z());
+    out += '\n';
+    flush_if_full();
+  }
+  for (size_t s = 0; s < strands.strand_count(); ++s)
+    for (int64_t p = strands.offsets[s] + 1; p < strands.offsets[s + 1]; ++p) {
+      out += "l ";
+      append_number(out, (long long)p);  // 1-based index of point p - 1
+      out += ' ';
+      append_number(out, (long long)p + 1);
+      out += '\n';
+      flush_if_full();
+    }
+  file.write(out);
+}
+
+}  // namespace plume::io::detail

@@ -1,0 +1,25 @@
+// One reader and one writer per strand format; read_strands/write_strands choose between them.
+#pragma once
+
+#include <string>
+
+#include "groom/strand_set.h"
+#include "io/atomic_file.h"
+#include "io/strand_file.h"
+
+namespace plume::io::detail {
+
+StrandSet read_hair(const std::string &path);
+StrandSet read_ply(const std::string &path);
+StrandSet read_usda(const std::string &path);
+StrandSet read_obj_strands(const std::string &path);
+
+void write_hair(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
+void write_ply(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
+void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
+void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
+
+/// Text is built in a buffer and handed to the file in blocks of about this size.
+constexpr size_t kWriteBlockBytes = 1 << 20;
+
+}  // namespace plume::io::detail

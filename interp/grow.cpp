@@ -1,0 +1,329 @@
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <string>
+
+#include "groom/error.h"
+#include "interp/interpolate.h"
+#include "interp/skin_guard.h"
+
+namespace plume::interp {
+
+namespace {
+
+/// The guides at one frame, prepared once per frame (never per strand).
+struct FrameGuides {
+  /// #guides surface frames at the guide roots on the posed mesh (columns tangent, bitangent, normal).
+  std::vector<Eigen::Matrix3f> frames;
+  /// #guides surface positions of the guide roots on the posed mesh.
+  std::vector<Eigen::Vector3f> origins;
+  /// Streamline: segment j of guide g is at index segment_offsets[g] + j (#guides + 1 offsets).
+  std::vector<int64_t> segment_offsets;
+  std::vector<Eigen::Vector3f> segment_directions;  // unit; a zero-length segment takes a neighbour's
+  std::vector<float> segment_lengths;
+  std::vector<float> segment_arcs;  // arc length from the guide's first point to the segment's start
+  /// Fur and linear: every guide resampled to N points by arc length (#guides * N points), with its
+  /// #guides * (N - 1) unit segment directions and lengths.
+  std::vector<Eigen::Vector3f> resampled;
+  std::vector<Eigen::Vector3f> resampled_directions;
+  std::vector<float> resampled_lengths;
+};
+
+/// Unit directions and lengths of the segments of a polyline; zero-length segments take the
+/// direction of the previous valid one (the first valid one for leading ones, `fallback` if none).
+void segment_directions(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f &fallback,
+                        Eigen::Vector3f *r_directions, float *r_lengths) {
+  const size_t count = points.size() - 1;
+  Eigen::Vector3f last = fallback;
+  bool found = false;
+  for (size_t j = 0; j < count; ++j) {
+    const Eigen::Vector3f d = points[j + 1] - points[j];
+    r_lengths[j] = d.norm();
+    if (!found && r_lengths[j] > 1e-20f) {
+      last = d / r_lengths[j];
+      found = true;
+    }
+  }
+  for (size_t j = 0; j < count; ++j) {
+    if (r_lengths[j] > 1e-20f) last = (points[j + 1] - points[j]) / r_lengths[j];
+    r_directions[j] = last;
+  }
+}
+
+/// `points` resampled to `count` points evenly spaced in arc length (a copy when counts match).
+void resample(std::span<const Eigen::Vector3f> points, int count, Eigen::Vector3f *r_points) {
+  if (points.size() == size_t(count)) {
+    std::copy(points.begin(), points.end(), r_points);
+    return;
+  }
+  double total = 0.0;
+  for (size_t j = 0; j + 1 < points.size(); ++j) total += (points[j + 1] - points[j]).norm();
+  size_t segment = 0;
+  double segment_start = 0.0;
+  double segment_length = (points[1] - points[0]).norm();
+  for (int i = 0; i < count; ++i) {
+    const double target = total * double(i) / double(count - 1);
+    while (segment + 2 < points.size() && segment_start + segment_length < target) {
+      segment_start += segment_length;
+      ++segment;
+      segment_length = (points[segment + 1] - points[segment]).norm();
+    }
+    const double t = segment_length > 0.0 ? std::clamp((target - segment_start) / segment_length, 0.0, 1.0) : 0.0;
+    r_points[i] = points[segment] + float(t) * (points[segment + 1] - points[segment]);
+  }
+  r_points[count - 1] = points.back();
+}
+
+FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const StrandSet &guides, int points_per_strand) {
+  const size_t guide_count = guides.strand_count();
+  FrameGuides frame;
+  frame.frames.resize(guide_count);
+  frame.origins.resize(guide_count);
+  for (size_t g = 0; g < guide_count; ++g) {
+    const SurfaceFrame f = surface_frame(mesh, binding.guide_roots[g]);
+    frame.frames[g] = f.basis;
+    frame.origins[g] = f.origin;
+  }
+  if (binding.settings.method == InterpolationSettings::Method::streamline) {
+    frame.segment_offsets.resize(guide_count + 1, 0);
+    for (size_t g = 0; g < guide_count; ++g)
+      frame.segment_offsets[g + 1] = frame.segment_offsets[g] + guides.points_in(g) - 1;
+    const size_t segment_count = size_t(frame.segment_offsets.back());
+    frame.segment_directions.resize(segment_count);
+    frame.segment_lengths.resize(segment_count);
+    frame.segment_arcs.resize(segment_count);
+    for (size_t g = 0; g < guide_count; ++g) {
+      const int64_t first = frame.segment_offsets[g];
+      segment_directions(guides.points(g), frame.frames[g].col(2), frame.segment_directions.data() + first,
+                         frame.segment_lengths.data() + first);
+      float arc = 0.0f;
+      for (int64_t j = first; j < frame.segment_offsets[g + 1]; ++j) {
+        frame.segment_arcs[size_t(j)] = arc;
+        arc += frame.segment_lengths[size_t(j)];
+      }
+    }
+  } else {
+    const size_t n = size_t(points_per_strand);
+    frame.resampled.resize(guide_count * n);
+    frame.resampled_directions.resize(guide_count * (n - 1));
+    frame.resampled_lengths.resize(guide_count * (n - 1));
+    for (size_t g = 0; g < guide_count; ++g) {
+      Eigen::Vector3f *points = frame.resampled.data() + g * n;
+      resample(guides.points(g), points_per_strand, points);
+      segment_directions({points, n}, frame.frames[g].col(2), frame.resampled_directions.data() + g * (n - 1),
+                         frame.resampled_lengths.data() + g * (n - 1));
+    }
+  }
+  return frame;
+}
+
+/// One influencing guide of the strand being grown.
+struct Slot {
+  int32_t guide;
+  float weight;     // binding weight
+  float influence;  // scale of the 1/d^falloff law (streamline)
+  Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
+  int64_t segment;  // streamline: segment of the guide holding the last closest point
+};
+
+/// Streamline direction field at `p`: on each guide, the closest point within a window moving
+/// forward from the slot's last segment; the guides' directions there are blended with weights
+/// influence_i / d_i^falloff (a guide at distance ~0 takes all the weight). Returns the unit
+/// direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
+struct StreamlineField {
+  const FrameGuides &frame;
+  const StrandSet &guides;
+  float window_arc;   // scan at least this much guide arc length ahead (lookahead * step)
+  int lookahead;      // ... and at least this many segments
+  float hit_distance_sq;
+  float tie_sq;       // a later segment within this of the best wins (vertex ties go forward)
+  float half_falloff;
+
+  Eigen::Vector3f operator()(const Eigen::Vector3f &p, Slot *slots, int used, const Eigen::Vector3f &fallback) const {
+    Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
+    float weight_sum = 0.0f, hit_sum = 0.0f;
+    for (int s = 0; s < used; ++s) {
+      Slot &slot = slots[s];
+      const size_t g = size_t(slot.guide);
+      const int64_t first = frame.segment_offsets[g];
+      const int64_t count = frame.segment_offsets[g + 1] - first;
+      const Eigen::Vector3f *points = guides.positions.data() + guides.offsets[g];
+      const float arc_start = frame.segment_arcs[size_t(first + slot.segment)];
+      float best_sq = INFINITY;
+      int64_t best = slot.segment;
+      for (int64_t j = slot.segment; j < count; ++j) {
+        if (j - slot.segment >= lookahead && frame.segment_arcs[size_t(first + j)] - arc_start >= window_arc) break;
+        const Eigen::Vector3f &direction = frame.segment_directions[size_t(first + j)];
+        const float t = std::clamp((p - points[j]).dot(direction), 0.0f, frame.segment_lengths[size_t(first + j)]);
+        const float distance_sq = (p - points[j] - t * direction).squaredNorm();
+        if (distance_sq <= best_sq + tie_sq) {
+          best_sq = distance_sq;
+          best = j;
+        }
+      }
+      slot.segment = best;
+      const Eigen::Vector3f &direction = frame.segment_directions[size_t(first + best)];
+      if (best_sq <= hit_distance_sq) {
+        hit_blend += slot.influence * direction;
+        hit_sum += slot.influence;
+      } else if (hit_sum == 0.0f) {
+        const float w = half_falloff == 1.0f ? slot.influence / best_sq
+                                             : slot.influence / std::pow(best_sq, half_falloff);
+        blend += w * direction;
+        weight_sum += w;
+      }
+    }
+    if (hit_sum > 0.0f) {
+      blend = hit_blend;
+      weight_sum = hit_sum;
+    }
+    const float norm = blend.norm();
+    return norm > 1e-6f * weight_sum && norm > 0.0f ? Eigen::Vector3f(blend / norm) : fallback;
+  }
+};
+
+Eigen::Vector3f unit_or(const Eigen::Vector3f &v, const Eigen::Vector3f &fallback) {
+  const float norm = v.norm();
+  return norm > 1e-20f ? Eigen::Vector3f(v / norm) : fallback;
+}
+
+}  // namespace
+
+void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
+          const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands) {
+  const int n = options.points_per_strand;
+  if (n < 2) throw InputError("points_per_strand: expected at least 2, got " + std::to_string(n));
+  if (roots.size() != binding.root_count())
+    throw InputError("grow: " + std::to_string(roots.size()) + " roots, but the binding has " +
+                     std::to_string(binding.root_count()));
+  if (guides.strand_count() != binding.guide_roots.size())
+    throw InputError("grow: " + std::to_string(guides.strand_count()) + " guides, but the binding has " +
+                     std::to_string(binding.guide_roots.size()));
+  for (size_t g = 0; g < guides.strand_count(); ++g)
+    if (guides.points_in(g) < 2)
+      throw InputError("guide " + std::to_string(g) + ": expected at least 2 points, got " +
+                       std::to_string(guides.points_in(g)));
+  for (const Eigen::Vector3f &p : guides.positions)
+    if (!p.allFinite()) throw InputError("grow: a guide point is not finite");
+
+  const FrameGuides frame = prepare_guides(binding, mesh, guides, n);
+  const InterpolationSettings &settings = binding.settings;
+  const int k = binding.k;
+  const float scale = mesh_scale(mesh);
+
+  r_strands.resize_uniform(roots.size(), n, options.with_widths);
+  r_strands.ids = roots.ids;
+  if (options.with_widths)
+    for (size_t r = 0; r < roots.size(); ++r)
+      for (int i = 0; i < n; ++i)
+        r_strands.widths[r * size_t(n) + size_t(i)] =
+            options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
+
+  const int64_t root_count = int64_t(roots.size());
+#pragma omp parallel for schedule(static)
+  for (int64_t r = 0; r < root_count; ++r) {
+    const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
+    const Eigen::Vector3f normal = root_frame.normal();
+    Slot slots[max_influences];
+    int used = 0;
+    for (int s = 0; s < k; ++s) {
+      const size_t slot = size_t(r) * size_t(k) + size_t(s);
+      const int32_t g = binding.guide_ids[slot];
+      if (g < 0) break;
+      // Q_root(t) * rest rotation * Q_guide(t)^T: a rigid motion of the skin gives back the rest
+      // rotation conjugated by that motion, so carried guides move exactly rigidly.
+      slots[used++] = {g, binding.weights[slot], binding.influence[slot],
+                       root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
+                           frame.frames[size_t(g)].transpose(),
+                       0};
+    }
+    Eigen::Vector3f *points = r_strands.positions.data() + r * n;
+
+    if (settings.method == InterpolationSettings::Method::linear) {
+      // Root-relative offsets of the resampled guides, blended as they are (no rotation).
+      for (int i = 0; i < n; ++i) {
+        Eigen::Vector3f p = root_frame.origin;
+        for (int s = 0; s < used; ++s) {
+          const size_t g = size_t(slots[s].guide);
+          p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
+        }
+        points[i] = p;
+      }
+      continue;
+    }
+
+    // The root: on the skin, lifted by the guides' own offsets from their surface points (carried),
+    // never below the skin.
+    Eigen::Vector3f lift = Eigen::Vector3f::Zero();
+    for (int s = 0; s < used; ++s) {
+      const size_t g = size_t(slots[s].guide);
+      lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
+    }
+    lift -= std::min(lift.dot(normal), 0.0f) * normal;
+    points[0] = root_frame.origin + lift;
+
+    if (settings.method == InterpolationSettings::Method::fur) {
+      // Segment j: weighted length and weighted direction of the carried guides' segments j.
+      Eigen::Vector3f direction = normal;
+      for (int i = 0; i + 1 < n; ++i) {
+        Eigen::Vector3f blend = Eigen::Vector3f::Zero();
+        float length = 0.0f;
+        for (int s = 0; s < used; ++s) {
+          const size_t at = size_t(slots[s].guide) * size_t(n - 1) + size_t(i);
+          blend += slots[s].weight * (slots[s].rotation * frame.resampled_directions[at]);
+          length += slots[s].weight * frame.resampled_lengths[at];
+        }
+        direction = unit_or(blend, direction);
+        points[i + 1] = points[i] + length * direction;
+      }
+      continue;
+    }
+
+    // Streamline-ratio growth.
+    const float step = binding.lengths[size_t(r)] / float(n - 1);
+    const StreamlineField field{frame,
+                                guides,
+                                float(std::max(settings.lookahead_segments, 1)) * step,
+                                std::max(settings.lookahead_segments, 1),
+                                std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
+                                (1e-5f * step) * (1e-5f * step),
+                                0.5f * settings.falloff};
+    SkinGuard guard(query, settings.skin_margin, scale);
+    guard.start(root_frame.origin);
+    // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
+    // keeps its length, and check again.
+    auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
+      Eigen::Vector3f to = from + step * direction;
+      const Eigen::Vector3f aimed = to;
+      guard.keep_out(to);
+      if (to != aimed) {
+        to = from + step * unit_or(to - from, direction);
+        guard.keep_out(to);
+      }
+      return to;
+    };
+    // First step: the guides' first directions carried to this root's frame, so the strand leaves
+    // the skin the way its guides do.
+    Eigen::Vector3f seed = Eigen::Vector3f::Zero();
+    for (int s = 0; s < used; ++s) {
+      const size_t g = size_t(slots[s].guide);
+      seed += slots[s].weight * (slots[s].rotation * frame.segment_directions[size_t(frame.segment_offsets[g])]);
+    }
+    Eigen::Vector3f direction = unit_or(seed, normal);
+    points[1] = advance(points[0], direction);
+    direction = unit_or(points[1] - points[0], direction);
+    // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
+    for (int i = 1; i + 1 < n; ++i) {
+      const Eigen::Vector3f start_direction = field(points[i], slots, used, direction);
+      const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
+      const Eigen::Vector3f middle_direction = field(middle, slots, used, start_direction);
+      points[i + 1] = advance(points[i], middle_direction);
+      direction = unit_or(points[i + 1] - points[i], middle_direction);
+    }
+  }
+
+  for (const Eigen::Vector3f &p : r_strands.positions)
+    if (!p.allFinite()) throw InternalError("grow: a strand point is not finite");
+}
+
+}  // namespace plume::interp

@@ -1,0 +1,97 @@
+// The strand checker: points inside the skin, crossing strands, influence across hard partings,
+// and how far strands rooted at guide roots stray from their guide. Used by `plume check` and by
+// the interpolation tests. Rules are documented in docs/partings.md ("The checker").
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "groom/guides.h"
+#include "groom/mesh_query.h"
+#include "groom/roots.h"
+#include "groom/strand_set.h"
+#include "interp/interpolate.h"
+#include "interp/parting_field.h"
+
+namespace plume::interp {
+
+struct CheckOptions {
+  /// Two strands cross when a segment of one comes within this distance (scene units) of a segment
+  /// of the other; <= 0 skips the crossing count. Segments touching a root are ignored for two
+  /// strands whose roots are themselves closer than the tolerance.
+  float crossing_tolerance = 0.0f;
+  /// A point other than a root counts as inside when its signed distance to the skin is below
+  /// skin_margin - eps (a root counts below -eps); eps = 1e-5 x the mesh's bounding-box diagonal.
+  float skin_margin = 0.0f;
+  /// A strand is "rooted at a guide root" when its first point is within this distance of the
+  /// guide's first point; 0 means 1e-4 x the mesh's bounding-box diagonal.
+  float guide_root_tolerance = 0.0f;
+  /// How many example strand ids each count keeps for messages.
+  size_t max_examples = 8;
+};
+
+struct CheckReport {
+  size_t strand_count = 0;
+  size_t point_count = 0;
+
+  size_t points_inside_skin = 0;
+  std::vector<uint64_t> inside_examples;  // strand ids, ascending
+
+  bool crossings_checked = false;
+  size_t crossing_pairs = 0;  // unordered strand pairs
+  std::vector<std::pair<uint64_t, uint64_t>> crossing_examples;
+  /// Segment pairs the spatial grid put side by side (grows with local density, not all pairs).
+  size_t segment_pairs_examined = 0;
+
+  bool zones_checked = false;
+  /// (root, guide) slots with a non-zero weight whose guide is in another hard zone.
+  size_t cross_zone_influences = 0;
+  std::vector<uint64_t> cross_zone_examples;  // strand ids
+
+  bool guides_checked = false;
+  size_t strands_at_guide_roots = 0;
+  /// Largest distance (scene units) between a strand rooted at a guide root and that guide, points
+  /// paired by arc length from the root (past the guide's end, its tip).
+  double max_guide_deviation = 0.0;
+  /// The same divided by the guide's length.
+  double max_guide_deviation_relative = 0.0;
+  uint64_t worst_guide_strand = 0;
+
+  /// True when none of the checked counts found a violation (guide deviation is a figure, not a
+  /// violation).
+  bool clean() const { return points_inside_skin == 0 && crossing_pairs == 0 && cross_zone_influences == 0; }
+};
+
+struct CrossingCount {
+  size_t pairs = 0;
+  std::vector<std::pair<uint64_t, uint64_t>> examples;
+  size_t segment_pairs_examined = 0;
+};
+
+/// Points inside the skin (see CheckOptions::skin_margin). r_examples gets up to max_examples ids.
+size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, float skin_margin, size_t max_examples,
+                           std::vector<uint64_t> &r_examples);
+
+/// Crossing strand pairs: segments are binned in a uniform hash grid (cell = the mean segment
+/// length, at least twice the tolerance) by their bounding boxes grown by tolerance / 2, and only
+/// segments sharing a cell are compared, each pair once (in the cell holding the lowest corner of
+/// the overlap of their boxes). Cost grows with the number of segments times the local density.
+CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t max_examples);
+
+/// (root, guide) slots of `binding` with a non-zero weight whose guide lies in another hard zone than
+/// the root. `roots` are the bound roots, `ids` the strand ids reported for them.
+size_t count_cross_zone_influences(const PartingField &partings, const Roots &roots, const Binding &binding,
+                                   size_t max_examples, std::vector<uint64_t> &r_examples);
+
+/// The surface points of the strands' first points, with the strands' ids: the roots to bind when
+/// checking strands that come from a file.
+Roots roots_of(const StrandSet &strands, const MeshQuery &query);
+
+/// Every check at once. The guide deviation needs `guides`; the zone check needs `partings`,
+/// `roots` and `binding` (the binding of these strands' roots).
+CheckReport check_strands(const StrandSet &strands, const MeshQuery &query, const CheckOptions &options,
+                          const Guides *guides = nullptr, const PartingField *partings = nullptr,
+                          const Roots *roots = nullptr, const Binding *binding = nullptr);
+
+}  // namespace plume::interp

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "groom/dynamics_desc.h"
@@ -44,6 +45,8 @@ class GuideSimulator {
   /// Current simulated guide strands (same offsets and ids as the rest guides), refreshed
   /// after each step.
   const StrandSet &guides() const { return view_; }
+  /// Current joint velocities (scene units / s), one per point of guides(), same order.
+  std::span<const Eigen::Vector3d> velocities() const;
   /// Simulated time since the last reset, seconds.
   double time() const { return time_; }
   const SimulationWork &work() const { return work_; }

@@ -296,6 +296,8 @@ EffectStack &EffectStack::operator=(EffectStack &&) noexcept = default;
 
 bool EffectStack::empty() const { return effects_.empty(); }
 
+const std::vector<int32_t> &EffectStack::clump_centres(size_t effect) const { return effects_.at(effect).centre_of; }
+
 namespace {
 
 /// Clump: d = P - C (C the centre strand at the same parameter t) becomes R(theta) (1 - w) d with

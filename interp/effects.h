@@ -43,6 +43,9 @@ class EffectStack {
 
   /// True when the stack has no effect (apply then only pushes points out of the skin).
   bool empty() const;
+  /// For effect `effect` of the stack, a clump: one entry per strand, the index of its clump's centre
+  /// strand (a centre is its own centre; -1: no clump, e.g. no guide). Empty for other effect types.
+  const std::vector<int32_t> &clump_centres(size_t effect) const;
 
   struct Prepared;  // one per effect, defined in effects.cpp
 

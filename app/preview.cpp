@@ -68,7 +68,8 @@ struct Lights {
 };
 
 void draw_mesh(const Mesh &mesh, const Projector &proj, const Lights &lights, const PreviewStyle &style,
-               Raster &r_raster) {
+               const std::vector<bool> &scalp_triangles, Raster &r_raster) {
+  const Eigen::Vector3f scalp_color = 0.5f * style.hair_color;
   std::vector<Eigen::Vector3f> screen(mesh.vertex_count());
   for (size_t v = 0; v < mesh.vertex_count(); ++v) screen[v] = proj.project(mesh.positions[v]);
   const int size = r_raster.size;
@@ -83,6 +84,8 @@ void draw_mesh(const Mesh &mesh, const Projector &proj, const Lights &lights, co
     const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()}))));
     const int y1 = std::min(size - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))));
     const Eigen::Vector3f inv_z(1.0f / a.z(), 1.0f / b.z(), 1.0f / c.z());
+    const bool scalp = !scalp_triangles.empty() && scalp_triangles[f];
+    const Eigen::Vector3f &albedo = scalp ? scalp_color : style.skin_color;
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
         const float px = float(x) + 0.5f, py = float(y) + 0.5f;
@@ -110,7 +113,7 @@ void draw_mesh(const Mesh &mesh, const Projector &proj, const Lights &lights, co
         const float key = std::max(0.0f, n.dot(lights.key));
         const float fill = std::max(0.0f, n.dot(lights.fill));
         const float rim = std::pow(1.0f - std::max(0.0f, n.dot(view)), 3.0f) * std::max(0.0f, n.dot(lights.rim) + 0.3f);
-        r_raster.color[pixel] = style.skin_color * (0.08f + 0.85f * key + 0.25f * fill) +
+        r_raster.color[pixel] = albedo * (0.08f + 0.85f * key + 0.25f * fill) +
                                 Eigen::Vector3f(0.25f, 0.25f, 0.3f) * rim;
       }
     }
@@ -133,7 +136,7 @@ Eigen::Vector3f shade_hair(const Eigen::Vector3f &tangent, const Eigen::Vector3f
   const float spec_wide = std::pow(sin_between(tangent, half_key), 12.0f);
   const Eigen::Vector3f diffuse = base * (0.06f + 0.9f * key + 0.2f * fill);
   const Eigen::Vector3f specular =
-      0.35f * spec * Eigen::Vector3f(1.0f, 0.95f, 0.9f) + 0.25f * spec_wide * base.cwiseSqrt().cwiseProduct(base);
+      0.2f * spec * Eigen::Vector3f(1.0f, 0.93f, 0.85f) + 0.2f * spec_wide * base.cwiseSqrt().cwiseProduct(base);
   return occlusion * (diffuse + specular);
 }
 
@@ -205,10 +208,31 @@ PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3
                                Eigen::AngleAxisf(-pitch_degrees * kPi / 180.0f, front.cross(camera.up).normalized()) *
                                front.normalized())
                                   .normalized();
-  // The bounding sphere fits in the vertical field of view with a 5% margin.
+  // Start from the distance at which the bounding sphere fits, then move in as long as every corner
+  // of the box still projects inside the frame with a 6% margin (the sphere leaves the box small).
   const float radius = std::max(0.5f * bounds.diagonal().norm(), 1e-6f);
   const float half_fov = 0.5f * camera.fov_y_degrees * kPi / 180.0f;
-  camera.eye = camera.target + dir * (1.05f * radius / std::sin(half_fov));
+  const float limit = 0.94f * std::tan(half_fov);
+  auto fits = [&](float distance) {
+    const Eigen::Vector3f eye = camera.target + dir * distance;
+    const Eigen::Vector3f forward = -dir;
+    const Eigen::Vector3f right = forward.cross(camera.up).normalized();
+    const Eigen::Vector3f up_view = right.cross(forward);
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3f d = bounds.corner(Eigen::AlignedBox3f::CornerType(corner)) - eye;
+      const float z = d.dot(forward);
+      if (z <= 0.0f || std::abs(d.dot(right)) > limit * z || std::abs(d.dot(up_view)) > limit * z) return false;
+    }
+    return true;
+  };
+  float far = radius / std::sin(half_fov) * 1.05f;
+  float near = radius;  // the eye must stay outside the bounding sphere
+  if (fits(near)) far = near;
+  for (int i = 0; i < 40 && far - near > 1e-4f * far; ++i) {
+    const float mid = 0.5f * (near + far);
+    (fits(mid) ? far : near) = mid;
+  }
+  camera.eye = camera.target + dir * far;
   return camera;
 }
 
@@ -220,15 +244,22 @@ Eigen::AlignedBox3f scene_bounds(const Mesh &mesh, const StrandSet &strands) {
   return box;
 }
 
+std::vector<bool> scalp_mask(const Mesh &mesh, const std::vector<int32_t> &root_triangles) {
+  std::vector<bool> mask(mesh.triangle_count(), false);
+  for (int32_t f : root_triangles)
+    if (f >= 0 && size_t(f) < mask.size()) mask[size_t(f)] = true;
+  return mask;
+}
+
 Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const StrandSet &strands, const StrandSet *guides,
-                     const PreviewStyle &style) {
+                     const PreviewStyle &style, const std::vector<bool> &scalp_triangles) {
   const int ss = std::max(1, style.supersample);
   const int raster_size = style.size * ss;
   const Projector proj(camera, raster_size);
   const Lights lights(proj);
   Raster raster(raster_size, style);
-  draw_mesh(mesh, proj, lights, style, raster);
-  draw_strands(strands, proj, lights, style.hair_color, true, 1, raster);
+  draw_mesh(mesh, proj, lights, style, scalp_triangles, raster);
+  draw_strands(strands, proj, lights, style.hair_color, true, std::max(1, style.strand_brush), raster);
   if (guides) draw_strands(*guides, proj, lights, style.guide_color, false, ss, raster);
 
   Image image;

@@ -23,7 +23,7 @@ struct PreviewCamera {
 
 /// A camera looking at the centre of `bounds` from a three-quarter front view: from the `front`
 /// side (the direction the subject faces), turned `yaw_degrees` about `up` and raised
-/// `pitch_degrees`, far enough that the bounding sphere fills the view with a small margin.
+/// `pitch_degrees`, as close as it can be with every corner of `bounds` inside the view (6% margin).
 PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3f &up = Eigen::Vector3f::UnitY(),
                          const Eigen::Vector3f &front = Eigen::Vector3f::UnitZ(), float yaw_degrees = 35.0f,
                          float pitch_degrees = 10.0f);
@@ -32,7 +32,8 @@ PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3
 struct PreviewStyle {
   int size = 800;        // square image, pixels
   int supersample = 3;   // strands and edges are drawn at size * supersample, then box-filtered
-  Eigen::Vector3f hair_color = Eigen::Vector3f(0.30f, 0.11f, 0.045f);
+  int strand_brush = 2;  // strand width in supersampled pixels
+  Eigen::Vector3f hair_color = Eigen::Vector3f(0.16f, 0.055f, 0.022f);
   Eigen::Vector3f guide_color = Eigen::Vector3f(0.1f, 0.85f, 1.0f);
   Eigen::Vector3f skin_color = Eigen::Vector3f(0.62f, 0.42f, 0.33f);
   Eigen::Vector3f background_top = Eigen::Vector3f(0.035f, 0.04f, 0.05f);
@@ -51,9 +52,15 @@ Eigen::AlignedBox3f scene_bounds(const Mesh &mesh, const StrandSet &strands);
 
 /// Renders `mesh` (vertex normals computed) and `strands`, and, when `guides` is not null, the
 /// guides drawn over them in the guide colour (still depth-tested against the mesh).
+/// `scalp_triangles` (empty, or one flag per triangle) marks the skin the hair grows from: it is
+/// drawn in a dark hair tone, as the skin seen between strands would look under real hair.
 /// Deterministic: the same inputs give the same pixels.
 Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const StrandSet &strands,
-                     const StrandSet *guides, const PreviewStyle &style = {});
+                     const StrandSet *guides, const PreviewStyle &style = {},
+                     const std::vector<bool> &scalp_triangles = {});
+
+/// One flag per triangle of `mesh`: true where one of `root_triangles` lies.
+std::vector<bool> scalp_mask(const Mesh &mesh, const std::vector<int32_t> &root_triangles);
 
 /// Encodes `image` as an 8-bit RGB PNG (libpng) written atomically to `path`.
 /// Throws InputError when the file cannot be written.

@@ -1,0 +1,86 @@
+// `plume simulate GROOM --frames 1-48 --cache cache/guides.####.hair`: runs the guide dynamics over
+// the range (sequential in time) and writes the simulated guides of every frame, so that dense
+// regrowth (`plume regrow --guides-cache`) can then run per frame or per chunk, anywhere.
+#include <memory>
+
+#include "app/commands.h"
+#include "app/pipeline.h"
+#include "app/progress.h"
+#include "groom/error.h"
+#include "io/groom_file.h"
+
+namespace plume {
+
+namespace {
+
+struct SimulateArgs {
+  std::string groom;
+  std::string frames;
+  std::string cache;
+  std::string preview;
+  int preview_every = 0;
+  int preview_size = 0;
+  int threads = 0;
+};
+
+void run_simulate(const SimulateArgs &args) {
+  const GroomDesc groom = io::read_groom_file(args.groom);
+  if (!groom.dynamics.enabled)
+    throw InputError(groom.dynamics.loc, "dynamics.enabled: expected true for plume simulate (the groom has no "
+                                         "dynamics: its guides only follow the skin)");
+  const FrameRange range = frames_to_produce(args.frames, groom);
+  const std::string cache = args.cache.empty() ? groom.dynamics.cache_pattern : args.cache;
+  check_output_pattern(cache, range, "--cache", {".hair", ".usda", ".ply", ".obj"});
+  const bool preview_sequence = !args.preview.empty() && has_frame_field(args.preview);
+  if (!args.preview.empty())
+    check_output_pattern(args.preview, preview_sequence ? range : FrameRange{range.first, range.first, 1},
+                         "--preview", {".png"});
+  set_thread_count(args.threads);
+
+  PipelineOptions options;
+  options.strand_count = 0;  // guides only: no dense roots are needed
+  options.simulation_start = std::min(groom_first_frame(groom), range.first);
+  Pipeline pipeline(groom, options);
+  PreviewStyle style;
+  style.size = args.preview_size > 0 ? args.preview_size : groom.output.preview_size;
+  const PreviewCamera camera = groom_camera(pipeline);
+  const StrandSet no_strands;
+
+  const std::vector<int> frames = range.frames();
+  Progress progress("simulate", int(frames.size()));
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const int frame = frames[i];
+    const Mesh posed = pipeline.posed_mesh(frame);
+    const StrandSet guides = pipeline.guides_at(frame, posed);
+    write_guide_cache(expand_frame_pattern(cache, frame), guides, frame);
+    const bool preview_due = args.preview_every > 0 ? i % size_t(args.preview_every) == 0 : i == 0;
+    if (!args.preview.empty() && preview_due && (preview_sequence || i == 0))
+      write_png(expand_frame_pattern(args.preview, frame), render_preview(camera, posed, no_strands, &guides, style));
+    progress.frame_done(frame);
+  }
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App &app, int &r_exit_code) {
+  auto args = std::make_shared<SimulateArgs>();
+  CLI::App *cmd = app.add_subcommand("simulate", "Simulate the guides of a groom with dynamics and write a guide cache.");
+  cmd->add_option("groom", args->groom, "Groom file (.yaml) with dynamics.enabled: true")->required();
+  cmd->add_option("--frames", args->frames, "Frames: 1-48 or 1-240:2 (default: the groom's output.frames)");
+  cmd->add_option("--cache", args->cache,
+                  "Guide cache pattern, one file per frame: cache/guides.####.hair (or .usda) "
+                  "(default: the groom's dynamics.cache)");
+  cmd->add_option("--preview", args->preview, "PNG pattern showing the guides, e.g. out/guides.####.png");
+  cmd->add_option("--preview-every", args->preview_every, "Write a preview every N frames (0: first frame only)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--preview-size", args->preview_size, "Preview size in pixels (default 800)")
+      ->check(CLI::Range(16, 8192));
+  cmd->add_option("--threads", args->threads, "Worker threads (output does not depend on it)")
+      ->check(CLI::PositiveNumber);
+  cmd->callback([args, &r_exit_code] {
+    run_simulate(*args);
+    r_exit_code = 0;
+  });
+}
+
+}  // namespace plume

@@ -1,0 +1,61 @@
+#include "app/commands.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "app/pipeline.h"
+#include "groom/error.h"
+
+namespace plume {
+
+void set_thread_count(int threads) {
+  if (threads > 0) omp_set_num_threads(threads);
+}
+
+FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {
+  if (!option.empty()) return parse_frame_range(option, "--frames");
+  if (!groom.output.frames.empty()) return parse_frame_range(groom.output.frames, groom.source + ": output.frames");
+  return FrameRange{};
+}
+
+int groom_first_frame(const GroomDesc &groom) {
+  if (groom.output.frames.empty()) return 1;
+  return parse_frame_range(groom.output.frames, groom.source + ": output.frames").first;
+}
+
+std::string extension_of(const std::string &path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
+                          const std::vector<std::string> &extensions) {
+  if (pattern.empty()) throw InputError(what + ": expected an output path, got none");
+  if (range.count() > 1 && !has_frame_field(pattern))
+    throw InputError(what + ": " + std::to_string(range.count()) +
+                     " frames need a frame field in the path (#### or %04d), got \"" + pattern + "\"");
+  expand_frame_pattern(pattern, range.first);  // rejects malformed fields before any work
+  const std::string ext = extension_of(pattern);
+  if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) {
+    std::string list;
+    for (const std::string &e : extensions) list += (list.empty() ? "" : ", ") + e;
+    throw InputError(what + ": expected a file ending in " + list + ", got \"" + pattern + "\"");
+  }
+}
+
+PreviewCamera groom_camera(const Pipeline &pipeline) {
+  return fit_camera(scene_bounds(pipeline.rest_mesh(), pipeline.guides().strands));
+}
+
+std::vector<bool> groom_scalp(const Pipeline &pipeline) {
+  std::vector<int32_t> triangles;
+  triangles.reserve(pipeline.roots().size());
+  for (const SurfacePoint &p : pipeline.roots().points) triangles.push_back(p.triangle);
+  return scalp_mask(pipeline.rest_mesh(), triangles);
+}
+
+}  // namespace plume

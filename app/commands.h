@@ -1,0 +1,46 @@
+// The subcommands of `plume`: each registers its options on the CLI11 app and runs when chosen.
+// A command's callback throws InputError for bad input (exit 2) and sets r_exit_code otherwise.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "app/frame_range.h"
+#include "app/preview.h"
+#include "groom/groom_desc.h"
+
+namespace plume {
+
+class Pipeline;
+
+void add_regrow_command(CLI::App &app, int &r_exit_code);
+void add_simulate_command(CLI::App &app, int &r_exit_code);
+void add_preview_command(CLI::App &app, int &r_exit_code);
+void add_info_command(CLI::App &app, int &r_exit_code);
+void add_check_command(CLI::App &app, int &r_exit_code);
+
+/// Exit code of `plume check --strict` when the strands break a promise.
+inline constexpr int kExitViolations = 3;
+
+// Shared by the commands.
+
+/// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it).
+void set_thread_count(int threads);
+/// The frames to produce: `option` when given, else the groom's output.frames, else frame 1.
+FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom);
+/// The first frame of the groom's own range (output.frames), 1 when it has none.
+int groom_first_frame(const GroomDesc &groom);
+/// Throws InputError unless `pattern` can name every frame of `range` (a frame field when there is
+/// more than one frame) and ends with one of `extensions`. `what` names the option.
+void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
+                          const std::vector<std::string> &extensions);
+/// Lower-case extension with its dot (".usda"), empty when there is none.
+std::string extension_of(const std::string &path);
+/// The preview camera of a groom: fitted to the rest emitter and the rest guides, so that every
+/// frame of a sequence is seen from the same place.
+PreviewCamera groom_camera(const Pipeline &pipeline);
+/// The triangles holding the groom's roots, drawn as scalp in previews.
+std::vector<bool> groom_scalp(const Pipeline &pipeline);
+
+}  // namespace plume

@@ -1,0 +1,222 @@
+#include "app/pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "app/frame_range.h"
+#include "dynamics/guide_simulator.h"
+#include "groom/error.h"
+#include "groom/mesh_query.h"
+#include "interp/effects.h"
+#include "interp/interpolate.h"
+#include "interp/parting_field.h"
+#include "io/obj_mesh.h"
+#include "io/point_list.h"
+#include "io/strand_file.h"
+
+namespace plume {
+
+namespace {
+
+constexpr float kDegrees = 3.14159265358979f / 180.0f;
+
+Eigen::Quaternionf euler_xyz(const Eigen::Vector3f &degrees) {
+  // Applied X first, then Y, then Z: R = Rz * Ry * Rx.
+  return Eigen::AngleAxisf(degrees.z() * kDegrees, Eigen::Vector3f::UnitZ()) *
+         Eigen::AngleAxisf(degrees.y() * kDegrees, Eigen::Vector3f::UnitY()) *
+         Eigen::AngleAxisf(degrees.x() * kDegrees, Eigen::Vector3f::UnitX());
+}
+
+Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery &rest_query, const Guides &guides,
+                 int64_t count_override) {
+  const RootSettings &settings = groom.roots;
+  if (settings.source == RootSettings::Source::file) {
+    const std::vector<Eigen::Vector3f> points = io::read_points(settings.file);
+    const size_t count = count_override >= 0 ? std::min(points.size(), size_t(count_override)) : points.size();
+    Roots roots;
+    roots.points.resize(count);
+    roots.ids.resize(count);
+    for (size_t i = 0; i < count; ++i) {
+      roots.points[i] = rest_query.closest(points[i]);
+      roots.ids[i] = i;  // the point's index in the file: stable as long as the file is
+    }
+    return roots;
+  }
+
+  std::vector<bool> mask;
+  if (!settings.groups.empty()) {
+    std::vector<bool> wanted(rest_mesh.group_names.size(), false);
+    for (const std::string &name : settings.groups) {
+      const int g = rest_mesh.group_index(name);
+      if (g < 0) {
+        std::string known;
+        for (const std::string &n : rest_mesh.group_names) known += (known.empty() ? "" : ", ") + n;
+        throw InputError(settings.loc, "roots.groups: no face group \"" + name + "\" in " + groom.emitter_path +
+                                           " (groups: " + known + ")");
+      }
+      wanted[size_t(g)] = true;
+    }
+    mask.resize(rest_mesh.triangle_count());
+    for (size_t f = 0; f < rest_mesh.triangle_count(); ++f) mask[f] = wanted[size_t(rest_mesh.triangle_groups[f])];
+  }
+  if (settings.near_guides > 0.0) {
+    std::vector<Eigen::Vector3f> guide_roots(guides.size());
+    for (size_t g = 0; g < guides.size(); ++g) guide_roots[g] = surface_position(rest_mesh, guides.roots[g]);
+    const std::vector<bool> near = triangles_near(rest_mesh, guide_roots, settings.near_guides);
+    if (mask.empty()) {
+      mask = near;
+    } else {
+      for (size_t f = 0; f < mask.size(); ++f) mask[f] = mask[f] && near[f];
+    }
+  }
+  int64_t count = settings.count;
+  if (count_override >= 0) {
+    count = count_override;
+  } else if (count <= 0) {
+    count = int64_t(std::llround(settings.density * masked_area(rest_mesh, mask)));
+  }
+  if (count <= 0 && count_override < 0)
+    throw InputError(settings.loc, "roots: the groom gives no roots (count 0, or density x area < 1)");
+  return scatter_roots(rest_mesh, count, settings.seed, mask);
+}
+
+}  // namespace
+
+Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
+  Eigen::Affine3f pose = Eigen::Affine3f::Identity();
+  if (animation.kind != EmitterAnimation::Kind::rigid || animation.keys.empty()) return pose;
+  const std::vector<RigidKey> &keys = animation.keys;
+  Eigen::Vector3f translate;
+  Eigen::Quaternionf rotate;
+  float scale;
+  if (frame <= keys.front().frame) {
+    translate = keys.front().translate;
+    rotate = euler_xyz(keys.front().rotate_degrees);
+    scale = keys.front().scale;
+  } else if (frame >= keys.back().frame) {
+    translate = keys.back().translate;
+    rotate = euler_xyz(keys.back().rotate_degrees);
+    scale = keys.back().scale;
+  } else {
+    size_t i = 1;
+    while (keys[i].frame <= frame) ++i;
+    const RigidKey &a = keys[i - 1], &b = keys[i];
+    const float t = float((frame - a.frame) / (b.frame - a.frame));
+    translate = (1.0f - t) * a.translate + t * b.translate;
+    rotate = euler_xyz(a.rotate_degrees).slerp(t, euler_xyz(b.rotate_degrees));
+    scale = (1.0f - t) * a.scale + t * b.scale;
+  }
+  const Eigen::Vector3f &pivot = animation.pivot;
+  pose.translate(pivot + translate);
+  pose.rotate(rotate);
+  pose.scale(scale);
+  pose.translate(-pivot);
+  return pose;
+}
+
+Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom), options_(options) {
+  rest_mesh_ = io::read_obj_mesh(groom_.emitter_path);
+  const MeshQuery rest_query(rest_mesh_);
+  guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
+  if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");
+  roots_ = make_roots(groom_, rest_mesh_, rest_query, guides_, options_.strand_count);
+  if (roots_.size() == 0 && options_.strand_count != 0)
+    throw InputError(groom_.roots.loc, "roots: no roots to grow (the roots file holds no points)");
+  if (rest_mesh_.has_uvs()) {
+    root_uvs_.resize(roots_.size());
+    for (size_t r = 0; r < roots_.size(); ++r) root_uvs_[r] = surface_uv(rest_mesh_, roots_.points[r]);
+  }
+
+  partings_ = std::make_unique<interp::PartingField>(rest_mesh_, guides_, groom_.partings);
+  binding_ = std::make_unique<interp::Binding>(
+      interp::bind(rest_mesh_, guides_, roots_, groom_.interpolation, partings_->empty() ? nullptr : partings_.get()));
+  // The strongest guide of each root (slots are ordered by decreasing weight).
+  std::vector<int32_t> nearest_guide(roots_.size(), -1);
+  for (size_t r = 0; r < roots_.size(); ++r) nearest_guide[r] = binding_->guide_ids[r * size_t(binding_->k)];
+  effects_ = std::make_unique<interp::EffectStack>(groom_.effects, rest_mesh_, roots_, guides_, nearest_guide);
+
+  if (groom_.dynamics.enabled && options_.guides_cache.empty())
+    simulator_ = std::make_unique<dynamics::GuideSimulator>(rest_mesh_, guides_, groom_.dynamics);
+}
+
+Pipeline::~Pipeline() = default;
+
+Mesh Pipeline::posed_mesh(int frame) const {
+  const EmitterAnimation &animation = groom_.animation;
+  if (animation.kind == EmitterAnimation::Kind::obj_sequence)
+    return io::read_obj_pose(expand_frame_pattern(animation.sequence_pattern, frame), rest_mesh_);
+  Mesh posed = rest_mesh_;
+  if (animation.kind == EmitterAnimation::Kind::rigid) {
+    const Eigen::Affine3f pose = rigid_pose_at(animation, frame);
+    for (Eigen::Vector3f &p : posed.positions) p = pose * p;
+    posed.compute_normals();
+  }
+  return posed;
+}
+
+StrandSet Pipeline::guides_at(int frame, const Mesh &posed) {
+  if (!groom_.dynamics.enabled) return carry_guides(rest_mesh_, posed, guides_);
+
+  if (!options_.guides_cache.empty()) {
+    const std::string path = expand_frame_pattern(options_.guides_cache, frame);
+    if (!std::filesystem::exists(path))
+      throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
+    const StrandSet cached = io::read_strands(path);
+    if (cached.offsets != guides_.strands.offsets)
+      throw InputError(FileLoc{path}, "guide cache: expected " + std::to_string(guides_.size()) + " guides of " +
+                                          "the groom's point counts, got " + std::to_string(cached.strand_count()) +
+                                          " strands / " + std::to_string(cached.point_count()) + " points");
+    // Keep the rest guides' ids and widths: only the positions are simulated.
+    StrandSet result = guides_.strands;
+    result.positions = cached.positions;
+    return result;
+  }
+
+  const int start = std::min(options_.simulation_start, frame) - groom_.dynamics.preroll_frames;
+  if (!simulated_frame_ || *simulated_frame_ > frame) {
+    simulator_->reset(posed_mesh(start));
+    simulated_frame_ = start;
+  }
+  while (*simulated_frame_ < frame) {
+    const int next = *simulated_frame_ + 1;
+    simulator_->step_frame(next == frame ? posed : posed_mesh(next));
+    simulated_frame_ = next;
+  }
+  return simulator_->guides();
+}
+
+FrameResult Pipeline::produce(int frame) {
+  FrameResult result;
+  result.frame = frame;
+  result.mesh = posed_mesh(frame);
+  result.guides = guides_at(frame, result.mesh);
+  const MeshQuery query(result.mesh);
+  interp::GrowOptions grow_options;
+  grow_options.points_per_strand = groom_.points_per_strand;
+  grow_options.width_root = groom_.width_root;
+  grow_options.width_tip = groom_.width_tip;
+  grow_options.with_widths = true;
+  interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands);
+  // The stack ends by pushing every point out of the skin, also when it holds no effect.
+  effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands);
+  return result;
+}
+
+void Pipeline::check_cache_has(const std::vector<int> &frames) const {
+  if (!groom_.dynamics.enabled || options_.guides_cache.empty()) return;
+  for (int frame : frames) {
+    const std::string path = expand_frame_pattern(options_.guides_cache, frame);
+    if (!std::filesystem::exists(path))
+      throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
+  }
+}
+
+void write_guide_cache(const std::string &path, const StrandSet &guides, int frame) {
+  io::StrandWriteOptions options;
+  options.time_code = frame;
+  options.comment = "plume guide cache, frame " + std::to_string(frame);
+  io::write_strands(path, guides, options);
+}
+
+}  // namespace plume

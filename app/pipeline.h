@@ -1,0 +1,102 @@
+// What the `plume` command does with a groom: load it once (rest mesh, guides, roots, partings,
+// binding, effects, simulator), then produce any frame: the posed emitter, the guides at that
+// frame (carried, simulated or read from a guide cache) and the dense strands grown from them.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "groom/groom_desc.h"
+#include "groom/guides.h"
+#include "groom/mesh.h"
+#include "groom/roots.h"
+#include "groom/strand_set.h"
+
+namespace plume {
+
+namespace interp {
+struct Binding;
+class PartingField;
+class EffectStack;
+}  // namespace interp
+namespace dynamics {
+class GuideSimulator;
+}
+
+/// The emitter's rigid transform at `frame` (identity when the animation is not rigid or has no
+/// keys): p' = pivot + translate + R * (scale * (p - pivot)), R from XYZ Euler angles (X first).
+/// Between keys translation and scale are linear and rotation is a slerp; outside the keys the
+/// nearest key holds.
+Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame);
+
+struct PipelineOptions {
+  /// Overrides the groom's root count when >= 0 (proxy runs); a smaller count keeps a subset of the
+  /// full groom's roots (scattering is stable under the count).
+  int64_t strand_count = -1;
+  /// With dynamics: a guide cache pattern (#### or %0Nd) to read the guides of every frame from
+  /// instead of simulating; empty: simulate.
+  std::string guides_cache;
+  /// With dynamics and no cache: the frame the simulation starts from, at rest (before any pre-roll).
+  int simulation_start = 1;
+};
+
+/// One produced frame, emitter object space.
+struct FrameResult {
+  int frame = 0;
+  Mesh mesh;          // the posed emitter, normals computed
+  StrandSet guides;   // the guides at this frame
+  StrandSet strands;  // the dense strands, widths root to tip, ids = root ids
+};
+
+class Pipeline {
+ public:
+  /// Loads and binds everything the groom describes. Throws InputError for any bad input
+  /// (missing or malformed files, unknown face groups, empty zones, an empty root set).
+  Pipeline(const GroomDesc &groom, const PipelineOptions &options);
+  ~Pipeline();
+  Pipeline(const Pipeline &) = delete;
+  Pipeline &operator=(const Pipeline &) = delete;
+
+  const GroomDesc &groom() const { return groom_; }
+  const Mesh &rest_mesh() const { return rest_mesh_; }
+  const Guides &guides() const { return guides_; }
+  const Roots &roots() const { return roots_; }
+  bool dynamic() const { return groom_.dynamics.enabled; }
+  /// One UV per root (root's UV on the emitter), empty when the emitter has no UVs.
+  const std::vector<Eigen::Vector2f> &root_uvs() const { return root_uvs_; }
+
+  /// The emitter at `frame`: an OBJ of the sequence, the rest mesh rigidly moved, or the rest mesh.
+  Mesh posed_mesh(int frame) const;
+  /// The guides at `frame` on `posed` (= posed_mesh(frame)). Without dynamics: carried by the skin.
+  /// With a cache: read from it (InputError when the file is missing or does not match the guides).
+  /// Otherwise simulated from options.simulation_start - preroll: frames should be asked for in
+  /// increasing order; asking for an earlier frame restarts the simulation.
+  StrandSet guides_at(int frame, const Mesh &posed);
+  /// The whole frame: posed mesh, guides, grown strands with effects applied and pushed out of the skin.
+  FrameResult produce(int frame);
+  /// Throws InputError naming the first missing file when the guide cache lacks one of `frames`.
+  void check_cache_has(const std::vector<int> &frames) const;
+
+ private:
+  GroomDesc groom_;
+  PipelineOptions options_;
+  Mesh rest_mesh_;
+  Guides guides_;
+  Roots roots_;
+  std::vector<Eigen::Vector2f> root_uvs_;
+  std::unique_ptr<interp::PartingField> partings_;
+  std::unique_ptr<interp::Binding> binding_;
+  std::unique_ptr<interp::EffectStack> effects_;
+  std::unique_ptr<dynamics::GuideSimulator> simulator_;
+  std::optional<int> simulated_frame_;  // the frame the simulator's state is at
+};
+
+/// Writes a guide cache frame (one file, format from the extension of `path`).
+void write_guide_cache(const std::string &path, const StrandSet &guides, int frame);
+
+}  // namespace plume

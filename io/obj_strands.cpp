@@ -37,7 +37,7 @@ StrandSet read_obj_strands(const std::string &path) {
       const size_t index_num = chain.size() - line_start;
       if (index_num < 2) cursor.fail("l: expected at least 2 vertex indices, got " + std::to_string(index_num));
       // Continue the previous strand when this line starts where it ended.
-      const bool continues = chain_offsets.back() < int64_t(line_start) && chain[line_start - 1] == chain[line_start];
+      const bool continues = chain_offsets.size() > 1 && chain[line_start - 1] == chain[line_start];
       if (continues) {
         chain.erase(chain.begin() + int64_t(line_start));
         chain_offsets.back() = int64_t(chain.size());

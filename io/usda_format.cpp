@@ -356,12 +356,13 @@ class UsdaReader {
       if (count < 2 || count != std::floor(count))
         fail(counts_.at, "curveVertexCounts[" + std::to_string(s) + "]: expected an integer >= 2 (linear curves), got " +
                              std::to_string(count));
-      counted += uint64_t(count);
-      if (counted > point_num) break;
+      // Saturating sum: no count list can overflow it into agreement.
+      counted = uint64_t(count) > std::numeric_limits<uint64_t>::max() - counted ? std::numeric_limits<uint64_t>::max()
+                                                                               : counted + uint64_t(count);
     }
     if (counted != point_num)
       fail(counts_.at, "curveVertexCounts: expected to add up to the " + std::to_string(point_num) + " points, got " +
-                           (counted > point_num ? "more" : std::to_string(counted)));
+                           std::to_string(counted));
     StrandSet strands;
     const size_t strand_num = counts_.values.size();
     strands.offsets.resize(strand_num + 1);

@@ -1,0 +1,88 @@
+// Loads a .usda with tinyusdz (a USD reader nobody on Plume wrote) and checks what it found.
+//   node load_usda.mjs NODE_MODULES FILE.usda [CURVES POINTS]
+// Exits non-zero when tinyusdz rejects the file (syntax, types, BasisCurves schema), when the
+// curves it parsed are inconsistent (counts vs points, widths, primvars), or when the numbers of
+// curves and points differ from CURVES and POINTS.
+import fs from 'node:fs';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+function fail(message) {
+  console.error(`load_usda: ${message}`);
+  process.exit(1);
+}
+
+const [nodeModules, file, expectedCurves, expectedPoints] = process.argv.slice(2);
+if (!nodeModules || !file) fail('usage: node load_usda.mjs NODE_MODULES FILE.usda [CURVES POINTS]');
+const packageDir = path.join(nodeModules, 'tinyusdz');
+if (!fs.existsSync(path.join(packageDir, 'tinyusdz.wasm')))
+  fail(`tinyusdz is not installed in ${nodeModules} (npm install --prefix <dir> tinyusdz)`);
+
+// tinyusdz ships a browser build: make it take the web path under Node and hand it the wasm bytes.
+globalThis.window = globalThis;
+process.type = 'renderer';
+const init = (await import(pathToFileURL(path.join(packageDir, 'tinyusdz.js')).href)).default;
+const native = await init({ wasmBinary: fs.readFileSync(path.join(packageDir, 'tinyusdz.wasm')) });
+const bytes = new Uint8Array(fs.readFileSync(file));
+
+// 1. As a stage: parses the text and rebuilds every prim through its typed schema (BasisCurves).
+const stage = new native.TinyUSDZLoaderNative();
+if (!stage.loadFromBinary(bytes, file)) fail(`tinyusdz rejects ${file} as a stage:\n${stage.error()}`);
+const paths = [];
+const walk = (node) => {
+  paths.push(node.absPath);
+  for (const child of node.children ?? []) walk(child);
+};
+for (let i = 0; i < stage.numRootNodes(); ++i) walk(stage.getRootNode(i));
+console.log(`prims: ${paths.join(' ')}`);
+
+// 2. As a layer, printed back by tinyusdz: the values it parsed, attribute by attribute.
+const layer = new native.TinyUSDZLoaderNative();
+if (!layer.loadAsLayerFromBinary(bytes, file)) fail(`tinyusdz rejects ${file} as a layer:\n${layer.error()}`);
+const dump = layer.layerToString();
+
+const curvesBlocks = [...dump.matchAll(/def BasisCurves "([^"]+)"/g)];
+if (curvesBlocks.length !== 1) fail(`expected one BasisCurves prim, tinyusdz found ${curvesBlocks.length}`);
+if (!/defaultPrim = "Groom"/.test(dump)) fail('tinyusdz found no defaultPrim = "Groom"');
+if (!/def Xform "Groom"/.test(dump)) fail('tinyusdz found no Xform "Groom"');
+
+// The array on the line of `name` (a default value, or the first time sample on the next line).
+function arrayOf(name) {
+  const escaped = name.replace(/[.:[\]]/g, '\\$&');
+  const plain = dump.match(new RegExp(`\\s${escaped} = \\[([^\\]]*)\\]`));
+  if (plain) return plain[1];
+  const sampled = dump.match(new RegExp(`\\s${escaped}\\.timeSamples = \\{\\s*[-0-9.e]+: \\[([^\\]]*)\\]`));
+  return sampled ? sampled[1] : null;
+}
+const numbers = (text) => (text.trim() === '' ? [] : text.split(',').map((s) => Number(s.replace(/[()]/g, ''))));
+const tuples = (text) => (text.match(/\(/g) ?? []).length;
+
+const countsText = arrayOf('int[] curveVertexCounts');
+const pointsText = arrayOf('point3f[] points');
+if (countsText === null) fail('tinyusdz found no int[] curveVertexCounts');
+if (pointsText === null) fail('tinyusdz found no point3f[] points');
+const counts = numbers(countsText);
+const pointNum = tuples(pointsText);
+if (counts.some((c) => !Number.isInteger(c) || c < 2)) fail('curveVertexCounts: expected integers >= 2 (linear curves)');
+const countSum = counts.reduce((a, b) => a + b, 0);
+if (countSum !== pointNum) fail(`curveVertexCounts add up to ${countSum}, tinyusdz read ${pointNum} points`);
+if (!/uniform token type = "linear"/.test(dump)) fail('expected uniform token type = "linear"');
+
+const widthsText = arrayOf('float[] widths');
+if (widthsText !== null) {
+  const widthNum = numbers(widthsText).length;
+  if (![1, counts.length, pointNum].includes(widthNum))
+    fail(`widths: ${widthNum} values, expected 1, ${counts.length} or ${pointNum}`);
+}
+for (const primvar of ['int[] primvars:groom_id', 'int64[] primvars:groom_id', 'texCoord2f[] primvars:st']) {
+  const text = arrayOf(primvar);
+  if (text === null) continue;
+  const found = primvar.startsWith('texCoord2f') ? tuples(text) : numbers(text).length;
+  if (found !== counts.length) fail(`${primvar}: ${found} values, expected one per curve (${counts.length})`);
+}
+console.log(`BasisCurves "${curvesBlocks[0][1]}": ${counts.length} curves, ${pointNum} points`);
+
+if (expectedCurves !== undefined && Number(expectedCurves) !== counts.length)
+  fail(`expected ${expectedCurves} curves, tinyusdz found ${counts.length}`);
+if (expectedPoints !== undefined && Number(expectedPoints) !== pointNum)
+  fail(`expected ${expectedPoints} points, tinyusdz found ${pointNum}`);

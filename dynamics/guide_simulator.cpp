@@ -95,7 +95,7 @@ struct GuideSimulator::State {
   std::vector<double> skin_travel;      // how far the skin has moved since that query (bound)
 
   // Per joint scratch, overwritten every substep (no allocation while stepping).
-  std::vector<Vector3d> dir, target, velocity_rhs, contact_normal, contact_velocity;
+  std::vector<Vector3d> dir, target, velocity_rhs, correction, contact_normal, contact_velocity;
   std::vector<double> lower, diag, upper, scalar_rhs, contact_friction;
 
   // Colliders.
@@ -115,6 +115,8 @@ struct GuideSimulator::State {
   void substep_guide(size_t g, double s0, double s1, double h, double time_end);
   void collide(int64_t begin, int64_t n, double h);
   int project_lengths(int64_t begin, int64_t n);
+  void project_velocities(int64_t begin, int64_t n, const Eigen::Vector3d &first_velocity, const Eigen::Vector3d *v_in,
+                          Eigen::Vector3d *v_out, double *r_lambda);
 };
 
 // Sets guide g at rest on the current pose (root_to), and solves compensated gravity.
@@ -202,8 +204,9 @@ void GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
 
 // Post-stabilisation: Newton iterations on C_i(x) = |x_i - x_{i-1}| - l_i = 0 with the mass-
 // weighted step dx = W J^T delta, (J W J^T) delta = -C, a tridiagonal system. A joint in contact
-// moves (almost) only in its tangent plane: W_j = w_j (I - (1 - eps) n n^T). Returns the number
-// of tridiagonal solves.
+// moves (almost) only in its tangent plane: W_j = w_j (I - (1 - eps) n n^T). The displacements
+// are added to `correction` (they become velocity, see substep_guide). Returns the number of
+// tridiagonal solves.
 int GuideSimulator::State::project_lengths(int64_t begin, int64_t n) {
   const int64_t rows = n - 2;
   double *lo = lower.data() + begin, *di = diag.data() + begin, *up = upper.data() + begin;
@@ -236,13 +239,47 @@ int GuideSimulator::State::project_lengths(int64_t begin, int64_t n) {
     for (int64_t j = 2; j < n; ++j) {
       Vector3d impulse = rhs[j - 2] * e[j];
       if (j + 1 < n) impulse -= rhs[j - 1] * e[j + 1];
-      x[begin + j] += apply_w(j, impulse);
+      const Vector3d step = apply_w(j, impulse);
+      x[begin + j] += step;
+      correction[begin + j] += step;
     }
   }
   // Not converged (a violent step): restore the lengths exactly from root to tip.
-  for (int64_t i = 2; i < n; ++i)
-    x[begin + i] = x[begin + i - 1] + rest_length[begin + i] * unit_or(x[begin + i] - x[begin + i - 1], e[i]);
+  for (int64_t i = 2; i < n; ++i) {
+    const Vector3d exact = x[begin + i - 1] + rest_length[begin + i] * unit_or(x[begin + i] - x[begin + i - 1], e[i]);
+    correction[begin + i] += exact - x[begin + i];
+    x[begin + i] = exact;
+  }
   return solves;
+}
+
+// Velocity-level inextensibility: v = v' + W J^T lambda with J v = 0, J_i v = e_i . (v_i - v_{i-1}):
+//   (w_i + w_{i-1}) lambda_i - w_{i-1} (e_{i-1} . e_i) lambda_{i-1} - w_i (e_i . e_{i+1}) lambda_{i+1}
+//     = -e_i . (v'_i - v'_{i-1}),
+// a symmetric positive definite tridiagonal system (w_1 = 0: joint 1 moves with the skin at
+// `first_velocity`). Uses the directions in `dir`; v_in and v_out are joint-indexed from the
+// guide's first joint and may alias; r_lambda gets the n - 2 multipliers.
+void GuideSimulator::State::project_velocities(int64_t begin, int64_t n, const Vector3d &first_velocity,
+                                               const Vector3d *v_in, Vector3d *v_out, double *r_lambda) {
+  const int64_t rows = n - 2;
+  const Vector3d *e = dir.data() + begin;
+  const double *w = inv_mass.data() + begin;
+  double *lo = lower.data() + begin, *di = diag.data() + begin, *up = upper.data() + begin;
+  for (int64_t i = 2; i < n; ++i) {
+    const int64_t r = i - 2;
+    const Vector3d &v_prev = i > 2 ? v_in[i - 1] : first_velocity;
+    const double w_prev = i > 2 ? w[i - 1] : 0.0;
+    di[r] = w[i] + w_prev;
+    lo[r] = i > 2 ? -w_prev * e[i - 1].dot(e[i]) : 0.0;
+    up[r] = i + 1 < n ? -w[i] * e[i].dot(e[i + 1]) : 0.0;
+    r_lambda[r] = -e[i].dot(v_in[i] - v_prev);
+  }
+  solve_tridiagonal({lo, size_t(rows)}, {di, size_t(rows)}, {up, size_t(rows)}, {r_lambda, size_t(rows)});
+  for (int64_t j = 2; j < n; ++j) {
+    Vector3d impulse = r_lambda[j - 2] * e[j];
+    if (j + 1 < n) impulse -= r_lambda[j - 1] * e[j + 1];
+    v_out[j] = v_in[j] + w[j] * impulse;
+  }
 }
 
 void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double h, double time_end) {
@@ -265,7 +302,7 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   const int64_t rows = n - 2;
   Vector3d *xs = x.data() + begin, *vs = v.data() + begin, *e = dir.data() + begin, *goal = target.data() + begin;
   Vector3d *vel = velocity_rhs.data() + begin;
-  const double *m = mass.data() + begin, *w = inv_mass.data() + begin, *k = stiffness.data() + begin;
+  const double *m = mass.data() + begin, *k = stiffness.data() + begin;
   double *tau = tension.data() + begin;
   double *lo = lower.data() + begin, *di = diag.data() + begin, *up = upper.data() + begin;
   double *lambda = scalar_rhs.data() + begin;
@@ -282,18 +319,25 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   }
 
   // 2. Implicit predictor (backward Euler on the linear forces), one row per free joint j:
-  //    (m_j + h a_j + h gamma_j + h^2 (k_j + k_{j+1})) v'_j - h^2 k_j v'_{j-1} - h^2 k_{j+1} v'_{j+1}
+  //    (m_j + h a_j + h gamma_j + h^2 (c_j + c_{j+1})) v'_j - h^2 c_j v'_{j-1} - h^2 c_{j+1} v'_{j+1}
   //      = m_j v_j + h f_j,
   //    f_j = m_j g + a_j wind_j + gamma_j vskin_j + k_j (x_{j-1} + G_j - x_j) - k_{j+1} (x_j + G_{j+1} - x_{j+1})
   //          + tau_j e_j - tau_{j+1} e_{j+1}
   //    a_j = drag m_j |v_j - wind_j| (quadratic air drag, linearised), gamma_j = damping m_j
   //    toward the velocity vskin_j the joint would have if carried rigidly by the root frame.
+  //    c_i = k_i + max(0, -tau_i) / l_i: the bending spring plus the geometric stiffness of the
+  //    segment's tension (d(tau e)/dx = tau / l (I - e e^T), taken isotropic: its axial part is
+  //    overridden by the constraints). Without it a heavily loaded chain (the top of a long
+  //    hanging guide) sees its tension explicitly and zigzags at large steps.
   const Vector3d gravity = settings.gravity.cast<double>();
   const Matrix3d skin_turn = f1.rotation.toRotationMatrix() * f0.rotation.toRotationMatrix().transpose();
   const double h2 = h * h;
+  const double *l = rest_length.data() + begin;
+  auto coupling = [&](int64_t i) { return i < n ? k[i] + std::max(0.0, -tau[i]) / l[i] : 0.0; };
   for (int64_t j = 2; j < n; ++j) {
     const int64_t r = j - 2;
     const double k_next = j + 1 < n ? k[j + 1] : 0.0;
+    const double c = coupling(j), c_next = coupling(j + 1);
     const Vector3d wind = wind_velocity(settings, time_end, xs[j]);
     const double a = settings.drag * m[j] * (vs[j] - wind).norm();
     const double gamma = settings.damping * m[j];
@@ -301,33 +345,19 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
     Vector3d force = m[j] * gravity + a * wind + gamma * skin_velocity + k[j] * (xs[j - 1] + goal[j] - xs[j]) +
                      tau[j] * e[j];
     if (j + 1 < n) force -= k_next * (xs[j] + goal[j + 1] - xs[j + 1]) + tau[j + 1] * e[j + 1];
-    di[r] = m[j] + h * (a + gamma) + h2 * (k[j] + k_next);
-    lo[r] = -h2 * k[j];
-    up[r] = -h2 * k_next;
+    di[r] = m[j] + h * (a + gamma) + h2 * (c + c_next);
+    lo[r] = -h2 * c;
+    up[r] = -h2 * c_next;
     vel[j] = m[j] * vs[j] + h * force;
   }
-  vel[2] += h2 * k[2] * first_velocity;  // the kinematic neighbour's term moves to the right side
+  vel[2] += h2 * coupling(2) * first_velocity;  // the kinematic neighbour's term moves to the right side
   solve_tridiagonal({lo, size_t(rows)}, {di, size_t(rows)}, {up, size_t(rows)}, {vel + 2, size_t(rows)});
 
-  // 3. Velocity-level inextensibility: v = v' + W J^T lambda with J v = 0, J_i v = e_i . (v_i - v_{i-1}):
-  //    (w_i + w_{i-1}) lambda_i - w_{i-1} (e_{i-1} . e_i) lambda_{i-1} - w_i (e_i . e_{i+1}) lambda_{i+1}
-  //      = -e_i . (v'_i - v'_{i-1}).
-  for (int64_t i = 2; i < n; ++i) {
-    const int64_t r = i - 2;
-    const Vector3d &v_prev = i > 2 ? vel[i - 1] : first_velocity;
-    const double w_prev = i > 2 ? w[i - 1] : 0.0;
-    di[r] = w[i] + w_prev;
-    lo[r] = i > 2 ? -w_prev * e[i - 1].dot(e[i]) : 0.0;
-    up[r] = i + 1 < n ? -w[i] * e[i].dot(e[i + 1]) : 0.0;
-    lambda[r] = -e[i].dot(vel[i] - v_prev);
-  }
-  solve_tridiagonal({lo, size_t(rows)}, {di, size_t(rows)}, {up, size_t(rows)}, {lambda, size_t(rows)});
-  for (int64_t j = 2; j < n; ++j) {
-    Vector3d impulse = lambda[j - 2] * e[j];
-    if (j + 1 < n) impulse -= lambda[j - 1] * e[j + 1];
-    vs[j] = vel[j] + w[j] * impulse;
-    tau[j] += lambda[j - 2] / h;  // carried to the next predictor, so a guide at rest stays at rest
-  }
+  // 3. Velocity-level inextensibility at the start directions (see project_velocities); the
+  //    multipliers are impulses, lambda / h the tension force carried to the next predictor, so
+  //    a guide at rest stays at rest.
+  project_velocities(begin, n, first_velocity, vel, vs, lambda);
+  for (int64_t j = 2; j < n; ++j) tau[j] += lambda[j - 2] / h;
 
   // 4. Positions; kinematic joints placed on the skin.
   xs[0] = root_end;
@@ -336,6 +366,7 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   for (int64_t j = 2; j < n; ++j) {
     xs[j] += h * vs[j];
     contact_normal[begin + j] = Vector3d::Zero();
+    correction[begin + j] = Vector3d::Zero();
     skin_travel[begin + j] += skin_move;
   }
 
@@ -346,7 +377,16 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
     solves += project_lengths(begin, n);
   }
 
-  // 6. Contact velocities, relative to the moving surface: no inward normal part, Coulomb
+  // 6. The length corrections become velocity (v += dx / h): otherwise a swinging chain, whose
+  //    linearised step drifts outward and is pulled back, would gain potential energy at large
+  //    steps. Push-outs do not: contact velocities are corrected below instead.
+  //    Then the velocities are made tangent to the constraints at the final directions (left in
+  //    `dir` by project_lengths), which removes the stretching part of that correction.
+  for (int64_t j = 2; j < n; ++j) vs[j] += correction[begin + j] / h;
+  project_velocities(begin, n, first_velocity, vs, vs, lambda);
+  ++solves;
+
+  // 7. Contact velocities, relative to the moving surface: no inward normal part, Coulomb
   //    friction on the tangential part (|dv_t| <= mu |v_n|).
   for (int64_t j = 2; j < n; ++j) {
     const Vector3d &normal = contact_normal[begin + j];
@@ -382,7 +422,7 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
   st.guide_solves.assign(guide_num, 0);
   st.guide_rows.assign(guide_num, 0);
   for (auto *a : {&st.rest_local, &st.x, &st.v, &st.gold, &st.query_point, &st.dir, &st.target, &st.velocity_rhs,
-                  &st.contact_normal, &st.contact_velocity})
+                  &st.correction, &st.contact_normal, &st.contact_velocity})
     a->assign(joint_num, Vector3d::Zero());
   for (auto *a : {&st.rest_length, &st.mass, &st.inv_mass, &st.stiffness, &st.emitter_margin, &st.tension,
                   &st.query_clearance, &st.skin_travel, &st.lower, &st.diag, &st.upper, &st.scalar_rhs,
@@ -398,15 +438,15 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
   if (settings.collide_with_emitter) rest_query = std::make_unique<MeshQuery>(rest_mesh);
   for (size_t g = 0; g < guide_num; ++g) {
     const int64_t begin = st.offsets[g], n = st.offsets[g + 1] - begin;
-    const SurfaceFrame rest_frame = surface_frame(rest_mesh, st.roots[g]);
+    const FramePose rest_frame = FramePose::from(surface_frame(rest_mesh, st.roots[g]));
     const auto points = guides.strands.points(g);
     const double length = std::max(guides.strands.length(g), 1e-12);
     const double min_segment = 1e-6 * length;
     double arc = 0.0;
     for (int64_t i = 0; i < n; ++i) {
-      st.rest_local[begin + i] = rest_frame.to_local(points[i]).cast<double>();
+      st.rest_local[begin + i] = rest_frame.rotation.conjugate() * (points[i].cast<double>() - rest_frame.origin);
       if (i > 0) {
-        const double l = std::max(double((points[i] - points[i - 1]).norm()), min_segment);
+        const double l = std::max((points[i] - points[i - 1]).cast<double>().norm(), min_segment);
         st.rest_length[begin + i] = l;
         const double u = arc / length;  // the bending joint x_{i-1} along the guide
         st.stiffness[begin + i] =
@@ -436,6 +476,7 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
 
 GuideSimulator::~GuideSimulator() = default;
 
+std::span<const Eigen::Vector3d> GuideSimulator::positions() const { return state_->x; }
 std::span<const Eigen::Vector3d> GuideSimulator::velocities() const { return state_->v; }
 
 void GuideSimulator::reset(const Mesh &posed_mesh) {
@@ -447,6 +488,9 @@ void GuideSimulator::reset(const Mesh &posed_mesh) {
 #pragma omp parallel for schedule(dynamic, 64)
   for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) st.reset_guide(size_t(g));
   st.mesh_to = posed_mesh;
+  st.mesh_sub = posed_mesh;
+  st.sub_start_positions = posed_mesh.positions;
+  st.query.reset();
   st.shapes.frames(posed_mesh, st.shape_frames_to);
   st.posed = true;
   time_ = 0.0;
@@ -465,10 +509,6 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
   for (size_t g = 0; g < st.guide_count(); ++g) st.root_to[g] = FramePose::from(surface_frame(posed_mesh, st.roots[g]));
   st.shape_frames_from.swap(st.shape_frames_to);
   st.shapes.frames(posed_mesh, st.shape_frames_to);
-  if (st.settings.collide_with_emitter) {
-    st.mesh_sub = st.mesh_from;
-    st.sub_start_positions = st.mesh_from.positions;
-  }
 
   const int substeps = st.settings.substeps;
   const double frame_time = 1.0 / st.settings.fps;
@@ -486,8 +526,11 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
         move2 = std::max(move2, double((st.mesh_sub.positions[p] - st.sub_start_positions[p]).squaredNorm()));
       }
       st.skin_move = std::sqrt(move2);
-      st.mesh_sub.compute_normals();
-      st.query = std::make_unique<MeshQuery>(st.mesh_sub);
+      // A still emitter (a held pose, a pre-roll) keeps its tree.
+      if (move2 > 0.0 || !st.query) {
+        st.mesh_sub.compute_normals();
+        st.query = std::make_unique<MeshQuery>(st.mesh_sub);
+      }
     }
     const double time_end = time_ + (s + 1) * h;
 #pragma omp parallel for schedule(dynamic, 64)
@@ -499,7 +542,6 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
       work_.joint_updates += std::max<int64_t>(0, st.offsets[g + 1] - st.offsets[g] - 2);
     }
   }
-  st.query.reset();
   time_ += frame_time;
   for (size_t p = 0; p < view_.positions.size(); ++p) view_.positions[p] = st.x[p].cast<float>();
 }

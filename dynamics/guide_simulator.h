@@ -45,6 +45,8 @@ class GuideSimulator {
   /// Current simulated guide strands (same offsets and ids as the rest guides), refreshed
   /// after each step.
   const StrandSet &guides() const { return view_; }
+  /// Current joint positions in the solver's double precision, one per point of guides().
+  std::span<const Eigen::Vector3d> positions() const;
   /// Current joint velocities (scene units / s), one per point of guides(), same order.
   std::span<const Eigen::Vector3d> velocities() const;
   /// Simulated time since the last reset, seconds.

@@ -532,3 +532,41 @@ TEST_CASE("describe_groom lists what a groom does", "[io]") {
   CHECK(text.find("dynamics: 8 substeps at 30 fps, 2 collision shapes\n") != std::string::npos);
   CHECK(text.find("frames 1-24:2") != std::string::npos);
 }
+
+TEST_CASE("the full example of docs/groom-format.md is a valid groom", "[io]") {
+  std::ifstream in(fs::path(PLUME_SOURCE_DIR) / "docs" / "groom-format.md");
+  REQUIRE(in);
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string opening = "## A full example";
+  const size_t section = doc.find(opening);
+  REQUIRE(section != std::string::npos);
+  const size_t begin = doc.find("```yaml\n", section);
+  REQUIRE(begin != std::string::npos);
+  const size_t end = doc.find("```", begin + 8);
+  REQUIRE(end != std::string::npos);
+  const std::string example = doc.substr(begin + 8, end - begin - 8);
+
+  // The files the example reads must exist; their content is not the groom reader's business.
+  TempGroom t;
+  for (const char *name : {"head.obj", "guides.hair", "clump_density.txt"}) std::ofstream(t.folder() / name) << "\n";
+  const GroomDesc g = read_groom_file(t.write(example, false));
+  CHECK(g.name == "example");
+  CHECK(g.roots.count == 30000);
+  CHECK(g.partings.zone_source == plume::PartingSettings::ZoneSource::face_groups);
+  CHECK(g.effects.size() == 6);
+  CHECK(g.dynamics.enabled);
+  CHECK(g.dynamics.shapes.size() == 2);
+  CHECK(g.output.frames == "1-48");
+}
+
+TEST_CASE("every groom in grooms/ is a valid groom file", "[io]") {
+  int count = 0;
+  for (const fs::directory_entry &entry : fs::recursive_directory_iterator(fs::path(PLUME_SOURCE_DIR) / "grooms")) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() < 11 || name.compare(name.size() - 11, 11, ".groom.yaml") != 0) continue;
+    INFO(entry.path().string());
+    CHECK_NOTHROW(read_groom_file(entry.path().string()));
+    ++count;
+  }
+  CHECK(count >= 1);
+}

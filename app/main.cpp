@@ -17,6 +17,7 @@ int main(int argc, char **argv) {
   plume::add_simulate_command(app, exit_code);
   plume::add_preview_command(app, exit_code);
   plume::add_info_command(app, exit_code);
+  plume::add_check_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {

@@ -1,0 +1,103 @@
+// Helpers for the `plume` command tests: run the binary, read files, make scratch folders.
+#pragma once
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace plume::cli_test {
+
+namespace fs = std::filesystem;
+
+/// A fresh, empty folder under the temp dir, removed when the object goes away.
+struct ScratchDir {
+  fs::path path;
+  explicit ScratchDir(const std::string &name) {
+    path = fs::temp_directory_path() / ("plume_cli_" + name + "_" + std::to_string(getpid()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~ScratchDir() { fs::remove_all(path); }
+  std::string operator/(const std::string &name) const { return (path / name).string(); }
+};
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string read_text(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+inline std::string quoted(const std::string &s) { return "'" + s + "'"; }
+
+/// Runs `plume ARGS` (arguments already quoted as needed) with stdout and stderr captured in files
+/// of `scratch` (not a terminal, so no progress line).
+inline RunResult run_plume(const std::string &args, const ScratchDir &scratch) {
+  const std::string out_path = scratch.path.string() + "/.stdout";
+  const std::string err_path = scratch.path.string() + "/.stderr";
+  const std::string command = quoted(PLUME_BINARY) + " " + args + " >" + quoted(out_path) + " 2>" + quoted(err_path);
+  const int status = std::system(command.c_str());
+  RunResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = read_text(out_path);
+  result.err = read_text(err_path);
+  fs::remove(out_path);
+  fs::remove(err_path);
+  return result;
+}
+
+/// Every regular file below `dir` (recursively), sorted.
+inline std::vector<std::string> files_in(const fs::path &dir) {
+  std::vector<std::string> files;
+  if (!fs::exists(dir)) return files;
+  for (const auto &entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// The groom files shipped in grooms/ (every *.groom.yaml, recursively), sorted.
+inline std::vector<std::string> shipped_grooms() {
+  std::vector<std::string> grooms;
+  for (const auto &entry : fs::recursive_directory_iterator(fs::path(PLUME_SOURCE_DIR) / "grooms")) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name.size() > 11 && name.substr(name.size() - 11) == ".groom.yaml")
+      grooms.push_back(entry.path().string());
+  }
+  std::sort(grooms.begin(), grooms.end());
+  return grooms;
+}
+
+inline std::string sintel_dir() { return std::string(PLUME_SOURCE_DIR) + "/grooms/sintel"; }
+
+/// A small groom on the Sintel head (absolute paths), with `extra` YAML appended at the top level.
+inline std::string write_sintel_groom(const ScratchDir &scratch, const std::string &name, const std::string &extra,
+                                      const std::string &guides = sintel_dir() + "/sintel_guides.hair") {
+  const std::string path = scratch / (name + ".groom.yaml");
+  std::ofstream out(path);
+  out << "plume: 1\n"
+      << "emitter:\n"
+      << "  mesh: " << sintel_dir() << "/sintel.obj\n"
+      << "  animation:\n"
+      << "    pivot: [0, 24, -2]\n"
+      << "    keys:\n"
+      << "      - {frame: 1, rotate: [0, 0, 0]}\n"
+      << "      - {frame: 5, rotate: [0, 30, 0], translate: [1, 0, 0]}\n"
+      << "guides: {file: " << guides << "}\n"
+      << "roots: {count: 400, near_guides: 2.0, seed: 3}\n"
+      << "strands: {points: 8}\n"
+      << extra;
+  return path;
+}
+
+}  // namespace plume::cli_test

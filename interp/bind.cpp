@@ -72,7 +72,9 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
     hi = hi.cwiseMax(p);
   }
   const float hit_distance = std::max(1e-6f * (hi - lo).norm(), 1e-12f);
-  const float falloff = settings.falloff;
+  // Streamline-ratio weighs guides by 1/d whatever the setting: the law that keeps the ratio of
+  // distances (docs/interpolation.md); binding weights use the same law so growth starts from them.
+  const float falloff = settings.method == InterpolationSettings::Method::streamline ? 1.0f : settings.falloff;
 
   const size_t guide_count = guides.size();
   std::vector<Eigen::Vector3f> guide_positions(guide_count);

@@ -22,12 +22,21 @@ struct FrameGuides {
   std::vector<Eigen::Vector3f> segment_directions;  // unit; a zero-length segment takes a neighbour's
   std::vector<float> segment_lengths;
   std::vector<float> segment_arcs;  // arc length from the guide's first point to the segment's start
+  /// Streamline: unit tangent at each guide point (#guides total points, indexed like the guides'
+  /// positions): the bisector of the two segments meeting there. Along a segment the field's
+  /// direction goes linearly from one end's tangent to the other's, so it is continuous at vertices.
+  std::vector<Eigen::Vector3f> point_tangents;
   /// Fur and linear: every guide resampled to N points by arc length (#guides * N points), with its
   /// #guides * (N - 1) unit segment directions and lengths.
   std::vector<Eigen::Vector3f> resampled;
   std::vector<Eigen::Vector3f> resampled_directions;
   std::vector<float> resampled_lengths;
 };
+
+Eigen::Vector3f unit_or(const Eigen::Vector3f &v, const Eigen::Vector3f &fallback) {
+  const float norm = v.norm();
+  return norm > 1e-20f ? Eigen::Vector3f(v / norm) : fallback;
+}
 
 /// Unit directions and lengths of the segments of a polyline; zero-length segments take the
 /// direction of the previous valid one (the first valid one for leading ones, `fallback` if none).
@@ -102,6 +111,20 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
         arc += frame.segment_lengths[size_t(j)];
       }
     }
+    frame.point_tangents.resize(guides.point_count());
+    for (size_t g = 0; g < guide_count; ++g) {
+      const int64_t first = frame.segment_offsets[g];
+      const int64_t segments = frame.segment_offsets[g + 1] - first;
+      Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
+      const Eigen::Vector3f *directions = frame.segment_directions.data() + first;
+      for (int64_t j = 1; j < segments; ++j) tangents[j] = unit_or(directions[j - 1] + directions[j], directions[j]);
+      // End tangents: the inner tangent mirrored about the end segment, exact on a circular arc.
+      auto mirror = [](const Eigen::Vector3f &inner, const Eigen::Vector3f &segment) {
+        return unit_or(2.0f * segment.dot(inner) * segment - inner, segment);
+      };
+      tangents[0] = segments > 1 ? mirror(tangents[1], directions[0]) : directions[0];
+      tangents[segments] = segments > 1 ? mirror(tangents[segments - 1], directions[segments - 1]) : directions[0];
+    }
   } else {
     const size_t n = size_t(points_per_strand);
     frame.resampled.resize(guide_count * n);
@@ -121,54 +144,66 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
 struct Slot {
   int32_t guide;
   float weight;     // binding weight
-  float influence;  // scale of the 1/d^falloff law (streamline)
+  float influence;  // scale of the 1/d law (streamline)
   Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
   int64_t segment;  // streamline: segment of the guide holding the last closest point
+  float arc_scale;  // streamline: guide length / strand length
 };
 
 /// Streamline direction field at `p`: on each guide, the closest point within a window moving
-/// forward from the slot's last segment; the guides' directions there are blended with weights
-/// influence_i / d_i^falloff (a guide at distance ~0 takes all the weight). Returns the unit
+/// forward from the slot's last segment; the guides' tangents there are blended with weights
+/// influence_i / d_i (a guide at distance ~0 takes all the weight). 1/d keeps the ratio of distances:
+/// between two straight guides meeting at an angle, sin(a - phi) e_0 + sin(phi) e_a is parallel to
+/// e_phi (sine rule), so the blended direction points along the ray of constant ratio. Returns the unit
 /// direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
 struct StreamlineField {
   const FrameGuides &frame;
   const StrandSet &guides;
-  float window_arc;   // scan at least this much guide arc length ahead (lookahead * step)
-  int lookahead;      // ... and at least this many segments
+  float window_arc;   // half width of the window in guide arc length (lookahead * step / 2)
+  int lookahead;      // and at least this many segments
   float hit_distance_sq;
   float tie_sq;       // a later segment within this of the best wins (vertex ties go forward)
-  float half_falloff;
 
-  Eigen::Vector3f operator()(const Eigen::Vector3f &p, Slot *slots, int used, const Eigen::Vector3f &fallback) const {
+  Eigen::Vector3f operator()(const Eigen::Vector3f &p, float arc, Slot *slots, int used,
+                             const Eigen::Vector3f &fallback, float *r_nearest = nullptr) const {
     Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
-    float weight_sum = 0.0f, hit_sum = 0.0f;
+    float weight_sum = 0.0f, hit_sum = 0.0f, nearest_sq = INFINITY;
     for (int s = 0; s < used; ++s) {
       Slot &slot = slots[s];
       const size_t g = size_t(slot.guide);
       const int64_t first = frame.segment_offsets[g];
       const int64_t count = frame.segment_offsets[g + 1] - first;
       const Eigen::Vector3f *points = guides.positions.data() + guides.offsets[g];
-      const float arc_start = frame.segment_arcs[size_t(first + slot.segment)];
-      float best_sq = INFINITY;
-      int64_t best = slot.segment;
-      for (int64_t j = slot.segment; j < count; ++j) {
-        if (j - slot.segment >= lookahead && frame.segment_arcs[size_t(first + j)] - arc_start >= window_arc) break;
+      // The window: from the last closest point (never backwards), over the guide arc around where a
+      // strand keeping pace with the guide would be (arc * guide length / strand length).
+      const float expected = arc * slot.arc_scale;
+      int64_t start = slot.segment;
+      while (start + 1 < count && frame.segment_arcs[size_t(first + start + 1)] <= expected - window_arc) ++start;
+      float best_sq = INFINITY, best_t = 0.0f;
+      int64_t best = start;
+      for (int64_t j = start; j < count; ++j) {
+        if (j - start >= lookahead && frame.segment_arcs[size_t(first + j)] > expected + window_arc) break;
         const Eigen::Vector3f &direction = frame.segment_directions[size_t(first + j)];
         const float t = std::clamp((p - points[j]).dot(direction), 0.0f, frame.segment_lengths[size_t(first + j)]);
         const float distance_sq = (p - points[j] - t * direction).squaredNorm();
-        if (distance_sq <= best_sq + tie_sq) {
+        if (distance_sq <= best_sq + tie_sq) {  // ties go forward (a vertex belongs to its outgoing segment)
           best_sq = distance_sq;
           best = j;
+          best_t = t;
         }
       }
       slot.segment = best;
-      const Eigen::Vector3f &direction = frame.segment_directions[size_t(first + best)];
+      if (slot.influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq);
+      const float length = frame.segment_lengths[size_t(first + best)];
+      const float u = length > 0.0f ? best_t / length : 0.0f;
+      const Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
+      const Eigen::Vector3f direction =
+          unit_or((1.0f - u) * tangents[best] + u * tangents[best + 1], frame.segment_directions[size_t(first + best)]);
       if (best_sq <= hit_distance_sq) {
         hit_blend += slot.influence * direction;
         hit_sum += slot.influence;
       } else if (hit_sum == 0.0f) {
-        const float w = half_falloff == 1.0f ? slot.influence / best_sq
-                                             : slot.influence / std::pow(best_sq, half_falloff);
+        const float w = slot.influence / std::sqrt(best_sq);
         blend += w * direction;
         weight_sum += w;
       }
@@ -176,16 +211,13 @@ struct StreamlineField {
     if (hit_sum > 0.0f) {
       blend = hit_blend;
       weight_sum = hit_sum;
+      nearest_sq = 0.0f;
     }
+    if (r_nearest) *r_nearest = std::sqrt(nearest_sq);
     const float norm = blend.norm();
     return norm > 1e-6f * weight_sum && norm > 0.0f ? Eigen::Vector3f(blend / norm) : fallback;
   }
 };
-
-Eigen::Vector3f unit_or(const Eigen::Vector3f &v, const Eigen::Vector3f &fallback) {
-  const float norm = v.norm();
-  return norm > 1e-20f ? Eigen::Vector3f(v / norm) : fallback;
-}
 
 }  // namespace
 
@@ -235,7 +267,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       slots[used++] = {g, binding.weights[slot], binding.influence[slot],
                        root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
                            frame.frames[size_t(g)].transpose(),
-                       0};
+                       0, 1.0f};
     }
     Eigen::Vector3f *points = r_strands.positions.data() + r * n;
 
@@ -283,11 +315,16 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     const float step = binding.lengths[size_t(r)] / float(n - 1);
     const StreamlineField field{frame,
                                 guides,
-                                float(std::max(settings.lookahead_segments, 1)) * step,
+                                0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
                                 std::max(settings.lookahead_segments, 1),
                                 std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
-                                (1e-5f * step) * (1e-5f * step),
-                                0.5f * settings.falloff};
+                                (1e-5f * step) * (1e-5f * step)};
+    for (int s = 0; s < used; ++s) {
+      const size_t g = size_t(slots[s].guide);
+      const int64_t last = frame.segment_offsets[g + 1] - 1;
+      const float guide_length = frame.segment_arcs[size_t(last)] + frame.segment_lengths[size_t(last)];
+      slots[s].arc_scale = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
+    }
     SkinGuard guard(query, settings.skin_margin, scale);
     guard.start(root_frame.origin);
     // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
@@ -313,12 +350,27 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     points[1] = advance(points[0], direction);
     direction = unit_or(points[1] - points[0], direction);
     // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
+    // Where the nearest guide is closer than half a step (but not on it), the field turns faster than
+    // one step resolves, so the step is split into substeps of about that distance (at most
+    // max_substeps), and the point lands one segment length along their chord.
+    constexpr int max_substeps = 8;
     for (int i = 1; i + 1 < n; ++i) {
-      const Eigen::Vector3f start_direction = field(points[i], slots, used, direction);
-      const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
-      const Eigen::Vector3f middle_direction = field(middle, slots, used, start_direction);
-      points[i + 1] = advance(points[i], middle_direction);
-      direction = unit_or(points[i + 1] - points[i], middle_direction);
+      float nearest = 0.0f;
+      Eigen::Vector3f start_direction = field(points[i], float(i) * step, slots, used, direction, &nearest);
+      const int substeps = nearest > 0.0f && nearest < 0.5f * step
+                               ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
+                               : 1;
+      const float substep = step / float(substeps);
+      Eigen::Vector3f p = points[i], last_direction = direction;
+      for (int sub = 0; sub < substeps; ++sub) {
+        const float arc = float(i) * step + float(sub) * substep;
+        if (sub > 0) start_direction = field(p, arc, slots, used, last_direction);
+        const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
+        last_direction = field(middle, arc + 0.5f * substep, slots, used, start_direction);
+        p += substep * last_direction;
+      }
+      points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
+      direction = unit_or(points[i + 1] - points[i], last_direction);
     }
   }
 

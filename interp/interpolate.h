@@ -31,9 +31,9 @@ struct Binding {
   std::vector<int32_t> guide_ids;
   /// #roots * k rest-pose weights (distance falloff times parting factors), summing to 1 per root.
   std::vector<float> weights;
-  /// #roots * k scale of each guide's 1/d^falloff law during streamline growth: the parting factor
-  /// times a fade that reaches 0 as the guide becomes the (k+1)-th nearest, so that
-  /// weights[i] is proportional to influence[i] / rest_distance[i]^falloff.
+  /// #roots * k scale of each guide's 1/d law during streamline growth: the parting factor times a
+  /// fade that reaches 0 as the guide becomes the (k+1)-th nearest, so that weights[i] is
+  /// proportional to influence[i] / rest_distance[i]^falloff.
   std::vector<float> influence;
   /// #roots * k rotations, expressed from the guide root's surface frame to the root's surface frame
   /// at rest: Q_root(rest)^T * M * Q_guide(rest), M the minimal rotation taking the guide root's
@@ -52,8 +52,9 @@ struct Binding {
 /// Binds every root to its k nearest guide roots (Euclidean distance on the rest pose, within
 /// settings.radius when > 0; a root with no guide in the radius takes its nearest guide), restricted
 /// to the guides of the root's hard zone and weighted by the partial partings when `partings` is
-/// given (may be null). Weights fall off as 1/d^falloff, faded to 0 at the (k+1)-th guide so they
-/// are continuous over the surface; a guide root at distance ~0 takes all the weight.
+/// given (may be null). Weights fall off as 1/d^falloff (fur, linear) or 1/d (streamline, the law
+/// that keeps the ratio of distances), faded to 0 at the (k+1)-th guide so they are continuous over
+/// the surface; a guide root at distance ~0 takes all the weight.
 /// Throws InputError for k outside [1, max_influences], no guides, or a zone with roots and no guide.
 Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, const InterpolationSettings &settings,
              const PartingField *partings = nullptr);

@@ -1,0 +1,203 @@
+// Quality on a real groom: hold out 20% and 40% of Sintel's guides (farthest-point sampling on the
+// roots picks the kept ones), regrow strands at the held-out roots from the kept guides, and compare
+// them with the real guides: mean distance (% of the real strand's length, points paired by
+// normalised arc length) and % of points inside the body, for each interpolation method.
+// Also the "oracle": the best least-squares blend of the same k guides that streamline uses
+// (root-relative, paired by arc length), with weights >= 0 (convex) or any weights summing to 1
+// (affine): the floor a blend of those guides can reach.
+#include <omp.h>
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "groom/guides.h"
+#include "groom/mesh_query.h"
+#include "interp/check.h"
+#include "interp/interpolate.h"
+#include "io/obj_mesh.h"
+#include "io/strand_file.h"
+
+using namespace plume;
+
+namespace {
+
+/// `count` points at uniform normalised arc length along a polyline.
+std::vector<Eigen::Vector3f> resample(std::span<const Eigen::Vector3f> points, int count) {
+  std::vector<double> arc(points.size(), 0.0);
+  for (size_t i = 1; i < points.size(); ++i) arc[i] = arc[i - 1] + (points[i] - points[i - 1]).norm();
+  std::vector<Eigen::Vector3f> out(static_cast<size_t>(count));
+  size_t seg = 0;
+  for (int j = 0; j < count; ++j) {
+    const double s = arc.back() * double(j) / double(count - 1);
+    while (seg + 2 < points.size() && arc[seg + 1] < s) ++seg;
+    const double span = arc[seg + 1] - arc[seg];
+    const float t = span > 0.0 ? float(std::clamp((s - arc[seg]) / span, 0.0, 1.0)) : 0.0f;
+    out[size_t(j)] = points[seg] + t * (points[seg + 1] - points[seg]);
+  }
+  return out;
+}
+
+double polyline_length(std::span<const Eigen::Vector3f> points) {
+  double length = 0.0;
+  for (size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
+  return length;
+}
+
+/// Indices of `keep` roots chosen by farthest-point sampling, starting from root 0.
+std::vector<size_t> farthest_point_sample(const std::vector<Eigen::Vector3f> &roots, size_t keep) {
+  std::vector<float> distance(roots.size(), std::numeric_limits<float>::infinity());
+  std::vector<size_t> kept;
+  size_t next = 0;
+  while (kept.size() < keep) {
+    kept.push_back(next);
+    for (size_t i = 0; i < roots.size(); ++i) distance[i] = std::min(distance[i], (roots[i] - roots[next]).norm());
+    next = size_t(std::max_element(distance.begin(), distance.end()) - distance.begin());
+  }
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+/// Mean over strands of the mean distance between paired points, in % of the real strand's length.
+double mean_error_percent(const StrandSet &grown, const StrandSet &real, int samples) {
+  double sum = 0.0;
+  for (size_t s = 0; s < real.strand_count(); ++s) {
+    const auto a = resample(grown.points(s), samples), b = resample(real.points(s), samples);
+    double d = 0.0;
+    for (int j = 0; j < samples; ++j) d += (a[size_t(j)] - b[size_t(j)]).norm();
+    sum += 100.0 * d / double(samples) / polyline_length(real.points(s));
+  }
+  return sum / double(real.strand_count());
+}
+
+/// Least-squares weights (summing to 1) of `shapes` for `target`, all paired point by point;
+/// returns the mean point distance. Substitutes w_0 = 1 - sum_{i>0} w_i.
+double best_affine_blend(const std::vector<std::vector<Eigen::Vector3f>> &shapes,
+                         const std::vector<Eigen::Vector3f> &target, Eigen::VectorXd &r_weights) {
+  const int n = int(shapes.size()), samples = int(target.size());
+  r_weights = Eigen::VectorXd::Zero(n);
+  r_weights[0] = 1.0;
+  if (n > 1) {
+    Eigen::MatrixXd a(3 * samples, n - 1);
+    Eigen::VectorXd b(3 * samples);
+    for (int j = 0; j < samples; ++j)
+      for (int c = 0; c < 3; ++c) {
+        b[3 * j + c] = double(target[size_t(j)][c] - shapes[0][size_t(j)][c]);
+        for (int i = 1; i < n; ++i)
+          a(3 * j + c, i - 1) = double(shapes[size_t(i)][size_t(j)][c] - shapes[0][size_t(j)][c]);
+      }
+    const Eigen::VectorXd rest = a.colPivHouseholderQr().solve(b);
+    r_weights.tail(n - 1) = rest;
+    r_weights[0] = 1.0 - rest.sum();
+  }
+  double d = 0.0;
+  for (int j = 0; j < samples; ++j) {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int i = 0; i < n; ++i) p += r_weights[i] * shapes[size_t(i)][size_t(j)].cast<double>();
+    d += (p - target[size_t(j)].cast<double>()).norm();
+  }
+  return d / double(samples);
+}
+
+/// The best blend of a root's bound guides: the guides' shapes are moved to the real strand's root
+/// and paired by normalised arc length. `convex`: weights >= 0 (the best of the affine fits over
+/// every subset of the guides whose weights are all >= 0; at most 2^k - 1 subsets); otherwise any
+/// weights summing to 1 (extrapolation allowed).
+double oracle_error_percent(const interp::Binding &binding, const Guides &kept, const StrandSet &real, int samples,
+                            bool convex) {
+  double sum = 0.0;
+  for (size_t s = 0; s < real.strand_count(); ++s) {
+    const auto target = resample(real.points(s), samples);
+    std::vector<std::vector<Eigen::Vector3f>> shapes;
+    for (int slot = 0; slot < binding.k; ++slot) {
+      const int32_t g = binding.guide_ids[s * size_t(binding.k) + size_t(slot)];
+      if (g < 0) continue;
+      auto shape = resample(kept.strands.points(size_t(g)), samples);
+      const Eigen::Vector3f offset = target[0] - shape[0];
+      for (auto &p : shape) p += offset;
+      shapes.push_back(std::move(shape));
+    }
+    Eigen::VectorXd weights;
+    double best = std::numeric_limits<double>::infinity();
+    if (!convex) {
+      best = best_affine_blend(shapes, target, weights);
+    } else {
+      for (unsigned subset = 1; subset < (1u << shapes.size()); ++subset) {
+        std::vector<std::vector<Eigen::Vector3f>> chosen;
+        for (size_t i = 0; i < shapes.size(); ++i)
+          if (subset & (1u << i)) chosen.push_back(shapes[i]);
+        const double d = best_affine_blend(chosen, target, weights);
+        if (weights.minCoeff() >= 0.0) best = std::min(best, d);
+      }
+    }
+    sum += 100.0 * best / polyline_length(real.points(s));
+  }
+  return sum / double(real.strand_count());
+}
+
+}  // namespace
+
+int main() {
+  const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/sintel/";
+  const Mesh mesh = io::read_obj_mesh(folder + "sintel.obj");
+  const MeshQuery query(mesh);
+  const Guides all = bind_guides(query, io::read_strands(folder + "sintel_guides.hair"), "sintel_guides.hair");
+  const int points = 32;
+  std::vector<Eigen::Vector3f> root_positions;
+  for (size_t g = 0; g < all.size(); ++g) root_positions.push_back(all.strands.points(g)[0]);
+
+  std::printf("Sintel hold-out quality: %zu guides, %zu-triangle mesh, %d cores, %d threads\n", all.size(),
+              mesh.triangle_count(), omp_get_num_procs(), omp_get_max_threads());
+  std::printf("%-9s %-11s %6s %7s %12s %10s %10s\n", "held out", "method", "kept", "regrown", "error %len",
+              "inside %", "bind+grow");
+
+  for (const double held_out : {0.2, 0.4}) {
+    const size_t keep = size_t(std::lround(double(all.size()) * (1.0 - held_out)));
+    const std::vector<size_t> kept_ids = farthest_point_sample(root_positions, keep);
+    std::vector<bool> is_kept(all.size(), false);
+    for (size_t g : kept_ids) is_kept[g] = true;
+    Guides kept;
+    Roots roots;
+    StrandSet real;
+    for (size_t g = 0; g < all.size(); ++g) {
+      if (is_kept[g]) {
+        kept.strands.append(all.strands.points(g), g);
+        kept.roots.push_back(all.roots[g]);
+      } else {
+        roots.points.push_back(all.roots[g]);
+        roots.ids.push_back(g);
+        real.append(all.strands.points(g), g);
+      }
+    }
+
+    using Method = InterpolationSettings::Method;
+    const std::pair<Method, const char *> methods[] = {
+        {Method::streamline, "streamline"}, {Method::fur, "fur"}, {Method::linear, "linear"}};
+    interp::Binding streamline_binding;
+    for (const auto &[method, name] : methods) {
+      InterpolationSettings settings;
+      settings.method = method;
+      interp::GrowOptions options;
+      options.points_per_strand = points;
+      StrandSet grown;
+      const auto start = std::chrono::steady_clock::now();
+      interp::Binding binding = interp::bind(mesh, kept, roots, settings);
+      interp::grow(binding, mesh, query, roots, kept.strands, options, grown);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::vector<uint64_t> examples;
+      const size_t inside = interp::count_points_inside(grown, query, 0.0f, 1, examples);
+      std::printf("%-9s %-11s %6zu %7zu %12.2f %10.2f %8.1fms\n", held_out == 0.2 ? "20%" : "40%", name, keep,
+                  roots.size(), mean_error_percent(grown, real, points),
+                  100.0 * double(inside) / double(grown.point_count()), seconds * 1e3);
+      if (method == Method::streamline) streamline_binding = std::move(binding);
+    }
+    for (const bool convex : {true, false})
+      std::printf("%-9s %-11s %6zu %7zu %12.2f %10s\n", held_out == 0.2 ? "20%" : "40%",
+                  convex ? "best convex" : "best affine", keep, roots.size(),
+                  oracle_error_percent(streamline_binding, kept, real, points, convex), "-");
+  }
+  return 0;
+}

@@ -106,6 +106,12 @@ class GroomReader {
     if (!(v >= lo)) fail_expected(file_, m.node(key), m.key_path(key), "a number >= " + format_number(lo));
     return v;
   }
+  /// at_least() for the settings held in doubles, kept at full precision.
+  double at_least_double(YamlMap &m, const std::string &key, double fallback, double lo) {
+    const double v = m.number(key, fallback);
+    if (!(v >= lo)) fail_expected(file_, m.node(key), m.key_path(key), "a number >= " + format_number(lo));
+    return v;
+  }
   float above(YamlMap &m, const std::string &key, float fallback, float lo) {
     const float v = real(m, key, fallback);
     if (!(v > lo)) fail_expected(file_, m.node(key), m.key_path(key), "a number > " + format_number(lo));
@@ -273,7 +279,7 @@ void GroomReader::read_roots(YamlMap &root, GroomDesc &groom) {
     r.count = roots.integer("count", r.count, 0, max_count);
     r.density = roots.number_in("density", r.density, 0.0, double(max_count));
     r.groups = roots.string_list("groups");
-    r.near_guides = at_least(roots, "near_guides", float(r.near_guides), 0.0f);
+    r.near_guides = at_least_double(roots, "near_guides", r.near_guides, 0.0);
   }
   roots.finish();
 }
@@ -297,7 +303,7 @@ void GroomReader::read_interpolation(YamlMap &root, GroomDesc &groom) {
              : method == "fur"      ? InterpolationSettings::Method::fur
                                     : InterpolationSettings::Method::linear;
   s.k = int(interp.integer("k", s.k, 1, 64));
-  s.radius = at_least(interp, "radius", float(s.radius), 0.0f);
+  s.radius = at_least_double(interp, "radius", s.radius, 0.0);
   s.falloff = above(interp, "falloff", s.falloff, 0.0f);
   s.skin_margin = at_least(interp, "skin_margin", s.skin_margin, 0.0f);
   s.lookahead_segments = int(interp.integer("lookahead", s.lookahead_segments, 1, max_points_per_strand - 1));

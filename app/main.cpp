@@ -30,6 +30,9 @@ int main(int argc, char **argv) {
   } catch (const std::exception &e) {
     std::fprintf(stderr, "plume: internal error: %s\n", e.what());
     return 1;
+  } catch (...) {
+    std::fprintf(stderr, "plume: internal error: unknown exception\n");
+    return 1;
   }
   return exit_code;
 }

@@ -242,3 +242,35 @@ TEST_CASE("check exits with 3 under --strict when strands enter the skin, 0 othe
   CHECK(run.exit_code == 0);
   CHECK(run.out.find("influences across hard partings: 0") != std::string::npos);
 }
+
+TEST_CASE("info describes an emitter mesh and a groom", "[cli]") {
+  ScratchDir scratch("info");
+  RunResult run = run_plume("info " + quoted(sintel_dir() + "/sintel.obj"), scratch);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.find("vertices   3046") != std::string::npos);
+  CHECK(run.out.find("triangles  5952") != std::string::npos);
+  CHECK(run.out.find("groups     1") != std::string::npos);
+  run = run_plume("info " + quoted(sintel_dir() + "/sintel_guides.hair"), scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.find("strands    228") != std::string::npos);
+  CHECK(run.out.find("points per strand  min 32  max 32") != std::string::npos);
+  run = run_plume("info " + quoted(sintel_dir() + "/sintel.groom.yaml"), scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.find("sintel_guides.hair") != std::string::npos);
+}
+
+TEST_CASE("on a terminal regrow shows frames/s and an ETA on stderr", "[cli]") {
+  ScratchDir scratch("progress");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  // script(1) (util-linux, always on Debian) runs the command on a pseudo-terminal.
+  const std::string inner = quoted(PLUME_BINARY) + " regrow " + quoted(groom) + " --frames 1-3 --strands 50 --out " +
+                            quoted(scratch / "h.####.hair");
+  const std::string command = "script -qec \"" + inner + "\" /dev/null >" + quoted(scratch / "tty.txt") + " 2>&1";
+  REQUIRE(std::system(command.c_str()) == 0);
+  const std::string shown = read_text(scratch / "tty.txt");
+  CHECK(shown.find("3/3 frames") != std::string::npos);
+  CHECK(shown.find("frames/s") != std::string::npos);
+  CHECK(shown.find("ETA") != std::string::npos);
+  CHECK(fs::exists(scratch / "h.0003.hair"));
+}

@@ -45,6 +45,21 @@ std::string quoted(std::string_view token) {
   return s + "\"";
 }
 
+NumberStatus parse_float(std::string_view token, float &r_value) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  const auto result = std::from_chars(token.data(), token.data() + token.size(), r_value);
+  if (result.ec == std::errc::result_out_of_range) return NumberStatus::NotFinite;
+  if (token.empty() || result.ec != std::errc() || result.ptr != token.data() + token.size()) return NumberStatus::NotANumber;
+  return std::isfinite(r_value) ? NumberStatus::Ok : NumberStatus::NotFinite;
+}
+
+NumberStatus parse_int(std::string_view token, long long &r_value) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  const auto result = std::from_chars(token.data(), token.data() + token.size(), r_value);
+  if (token.empty() || result.ec != std::errc() || result.ptr != token.data() + token.size()) return NumberStatus::NotANumber;
+  return NumberStatus::Ok;
+}
+
 bool LineCursor::next() {
   if (next_start_ >= text_.size()) return false;
   const size_t newline = text_.find('\n', next_start_);
@@ -84,26 +99,17 @@ std::string_view LineCursor::take_token(std::string_view &rest) {
 
 float LineCursor::to_float(std::string_view token, std::string_view what) const {
   if (token.empty()) fail(line_.substr(line_.size()), std::string(what) + ": expected a number, got the end of the line");
-  std::string_view digits = token;
-  if (digits.front() == '+') digits.remove_prefix(1);
   float value = 0.0f;
-  const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  if (result.ec == std::errc::result_out_of_range)
-    fail(token, std::string(what) + ": expected a finite number, got " + quoted(token) + " (out of float range)");
-  if (result.ec != std::errc() || result.ptr != digits.data() + digits.size())
-    fail(token, std::string(what) + ": expected a number, got " + quoted(token));
-  if (!std::isfinite(value)) fail(token, std::string(what) + ": expected a finite number, got " + quoted(token));
+  const NumberStatus status = parse_float(token, value);
+  if (status == NumberStatus::NotANumber) fail(token, std::string(what) + ": expected a number, got " + quoted(token));
+  if (status == NumberStatus::NotFinite) fail(token, std::string(what) + ": expected a finite number, got " + quoted(token));
   return value;
 }
 
 long long LineCursor::to_int(std::string_view token, std::string_view what) const {
   if (token.empty()) fail(line_.substr(line_.size()), std::string(what) + ": expected an integer, got the end of the line");
-  std::string_view digits = token;
-  if (digits.front() == '+') digits.remove_prefix(1);
   long long value = 0;
-  const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  if (result.ec != std::errc() || result.ptr != digits.data() + digits.size())
-    fail(token, std::string(what) + ": expected an integer, got " + quoted(token));
+  if (parse_int(token, value) != NumberStatus::Ok) fail(token, std::string(what) + ": expected an integer, got " + quoted(token));
   return value;
 }
 
@@ -115,10 +121,5 @@ void ByteCursor::require(size_t offset, uint64_t count, uint64_t item_bytes, std
                      " bytes, file ends after " + std::to_string(available));
 }
 
-float ByteCursor::finite_float(size_t offset, const std::string &what) const {
-  const float value = get<float>(offset);
-  if (!std::isfinite(value)) fail(offset, what + ": expected a finite number, got " + std::to_string(value));
-  return value;
-}
 
 }  // namespace plume::io::detail

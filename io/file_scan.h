@@ -25,6 +25,12 @@ std::string extension_of(const std::string &path);
 /// Quotes a token for a message, cutting it short and escaping bytes that are not printable.
 std::string quoted(std::string_view token);
 
+enum class NumberStatus { Ok, NotANumber, NotFinite };
+/// Parses a whole token as a float (a leading '+' is allowed); NotFinite for nan, inf or overflow.
+NumberStatus parse_float(std::string_view token, float &r_value);
+/// Parses a whole token as an integer (a leading '+' is allowed).
+NumberStatus parse_int(std::string_view token, long long &r_value);
+
 /// Walks a text buffer line by line; line() excludes the newline and a trailing '\r'.
 class LineCursor {
  public:
@@ -79,8 +85,6 @@ class ByteCursor {
     std::memcpy(&value, bytes_.data() + offset, sizeof(T));
     return value;
   }
-  /// A float that must be finite; `what` names it in the message.
-  float finite_float(size_t offset, const std::string &what) const;
 
  private:
   std::string_view bytes_;

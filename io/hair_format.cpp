@@ -2,6 +2,7 @@
 // (segments u16[hairs], points f32[3 * points], thickness f32[points], transparency f32[points],
 // colors f32[3 * points]), in that order.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <tuple>
@@ -83,14 +84,18 @@ StrandSet read_hair(const std::string &path) {
   for (uint32_t p = 0; p < point_num; ++p)
     for (int axis = 0; axis < 3; ++axis) {
       const size_t at = points_at + 12 * size_t(p) + 4 * size_t(axis);
-      strands.positions[p][axis] = in.finite_float(at, "points[" + std::to_string(p) + "]." + "xyz"[axis]);
+      const float value = in.get<float>(at);
+      if (!std::isfinite(value))
+        in.fail(at, "points[" + std::to_string(p) + "]." + "xyz"[axis] + ": expected a finite number, got " + std::to_string(value));
+      strands.positions[p][axis] = value;
     }
   if (arrays & kThickness) {
     strands.widths.resize(point_num);
     for (uint32_t p = 0; p < point_num; ++p) {
       const size_t at = thickness_at + 4 * size_t(p);
-      const float width = in.finite_float(at, "thickness[" + std::to_string(p) + "]");
-      if (width < 0.0f) in.fail(at, "thickness[" + std::to_string(p) + "]: expected >= 0, got " + std::to_string(width));
+      const float width = in.get<float>(at);
+      if (!std::isfinite(width) || width < 0.0f)
+        in.fail(at, "thickness[" + std::to_string(p) + "]: expected a finite number >= 0, got " + std::to_string(width));
       strands.widths[p] = width;
     }
   }

@@ -240,6 +240,8 @@ class PlyReader {
       for (const PlyProperty &property : element.properties)
         min_item_bytes += uint64_t(type_bytes(property.is_list ? property.count_type : property.type));
       in.require(offset, element.count, min_item_bytes, "element " + element.name);
+      const bool has_lists = std::any_of(element.properties.begin(), element.properties.end(),
+                                         [](const PlyProperty &property) { return property.is_list; });
       allocate(int(e));
       const bool wanted = int(e) == vertex_element_ || int(e) == edge_element_;
       for (uint64_t item = 0; item < element.count; ++item) {
@@ -254,7 +256,7 @@ class PlyReader {
             offset += size_t(count) * type_bytes(property.type);
             continue;
           }
-          in.require(offset, 1, type_bytes(property.type), "element " + element.name + " item " + std::to_string(item));
+          if (has_lists) in.require(offset, 1, type_bytes(property.type), "element " + element.name + " item " + std::to_string(item));
           if (wanted) take(int(e), int(p), read_binary(in, offset, property.type), ValueLoc{0, (long long)offset}, item);
           offset += type_bytes(property.type);
         }
@@ -284,19 +286,24 @@ class PlyReader {
         std::string_view rest = lines.line();
         for (size_t p = 0; p < element.properties.size(); ++p) {
           const PlyProperty &property = element.properties[p];
-          const std::string what = element.name + " " + std::to_string(item) + ": " + property.name;
+          const auto what = [&] { return element.name + " " + std::to_string(item) + ": " + property.name; };
           if (property.is_list) {
-            const long long count = lines.to_int(LineCursor::take_token(rest), what + " count");
-            if (count < 0) lines.fail(what + ": expected a list count >= 0, got " + std::to_string(count));
-            for (long long k = 0; k < count; ++k) lines.to_float(LineCursor::take_token(rest), what);
+            const long long count = lines.to_int(LineCursor::take_token(rest), what() + " count");
+            if (count < 0) lines.fail(what() + ": expected a list count >= 0, got " + std::to_string(count));
+            for (long long k = 0; k < count; ++k) lines.to_float(LineCursor::take_token(rest), what());
             continue;
           }
           const std::string_view token = LineCursor::take_token(rest);
           double value = 0.0;
-          if (property.type == PlyType::Float32 || property.type == PlyType::Float64)
-            value = lines.to_float(token, what);
-          else
-            value = double(lines.to_int(token, what));
+          if (property.type == PlyType::Float32 || property.type == PlyType::Float64) {
+            float parsed = 0.0f;
+            if (parse_float(token, parsed) != NumberStatus::Ok) lines.to_float(token, what());  // throws the message
+            value = parsed;
+          } else {
+            long long parsed = 0;
+            if (parse_int(token, parsed) != NumberStatus::Ok) lines.to_int(token, what());  // throws the message
+            value = double(parsed);
+          }
           if (wanted) take(int(e), int(p), value, ValueLoc{lines.line_number(), -1}, item);
         }
         if (const std::string_view extra = LineCursor::take_token(rest); !extra.empty())

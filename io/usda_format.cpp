@@ -24,6 +24,16 @@ struct Token {
   int column = 0;
 };
 
+// Character classes inline: the lexer sees every byte of files with millions of numbers.
+constexpr bool is_digit(char c) { return c >= '0' && c <= '9'; }
+constexpr bool is_letter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
+constexpr bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+constexpr bool is_punct_char(char c) {
+  return c == '(' || c == ')' || c == '[' || c == ']' || c == '{' || c == '}' || c == '=' || c == ',' || c == ':';
+}
+constexpr bool is_number_char(char c) { return is_digit(c) || is_letter(c) || c == '+' || c == '-' || c == '.'; }
+constexpr bool is_word_char(char c) { return is_digit(c) || is_letter(c) || c == ':' || c == '.'; }
+
 /// Splits usda text into tokens: punctuation ()[]{}=,: strings "..." / """...""", numbers,
 /// words (identifiers, may contain : and .), <paths> and @assets@. `#` starts a comment.
 class UsdaLexer {
@@ -46,10 +56,11 @@ class UsdaLexer {
   [[noreturn]] void fail(const Token &at, const std::string &message) const {
     throw InputError(FileLoc{path_, at.line, at.column}, message);
   }
-  Token expect_punct(char c, std::string_view context) {
+  /// The message reads "context detail: expected 'c', got ...".
+  Token expect_punct(char c, std::string_view context, std::string_view detail = {}) {
     const Token token = next();
     if (token.kind != TokenKind::Punct || token.text[0] != c)
-      fail(token, std::string(context) + ": expected '" + c + "', got " + describe(token));
+      fail(token, std::string(context) + std::string(detail) + ": expected '" + c + "', got " + describe(token));
     return token;
   }
   static std::string describe(const Token &token) {
@@ -61,7 +72,7 @@ class UsdaLexer {
  private:
   Token lex() {
     for (;;) {
-      while (pos_ < text_.size() && std::isspace((unsigned char)text_[pos_])) advance_char();
+      while (pos_ < text_.size() && is_space(text_[pos_])) advance_char();
       if (pos_ < text_.size() && text_[pos_] == '#') {
         while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
         continue;
@@ -74,7 +85,7 @@ class UsdaLexer {
     if (pos_ >= text_.size()) return token;
     const char c = text_[pos_];
     const size_t start = pos_;
-    if (std::string_view("()[]{}=,:").find(c) != std::string_view::npos) {
+    if (is_punct_char(c)) {
       token.kind = TokenKind::Punct;
       token.text = text_.substr(pos_++, 1);
     } else if (c == '"' || c == '\'') {
@@ -103,15 +114,12 @@ class UsdaLexer {
       ++pos_;
       token.kind = TokenKind::Path;
       token.text = text_.substr(start, pos_ - start);
-    } else if (std::isdigit((unsigned char)c) || c == '-' || c == '+' || c == '.') {
-      while (pos_ < text_.size() && (std::isalnum((unsigned char)text_[pos_]) || std::string_view("+-.").find(text_[pos_]) != std::string_view::npos))
-        ++pos_;
+    } else if (is_digit(c) || c == '-' || c == '+' || c == '.') {
+      while (pos_ < text_.size() && is_number_char(text_[pos_])) ++pos_;
       token.kind = TokenKind::Number;
       token.text = text_.substr(start, pos_ - start);
-    } else if (std::isalpha((unsigned char)c) || c == '_') {
-      while (pos_ < text_.size() && (std::isalnum((unsigned char)text_[pos_]) || text_[pos_] == '_' ||
-                                     text_[pos_] == ':' || text_[pos_] == '.'))
-        ++pos_;
+    } else if (is_letter(c)) {
+      while (pos_ < text_.size() && is_word_char(text_[pos_])) ++pos_;
       token.kind = TokenKind::Word;
       token.text = text_.substr(start, pos_ - start);
     } else {
@@ -297,29 +305,31 @@ class UsdaReader {
     std::string_view digits = token.text;
     if (digits.front() == '+') digits.remove_prefix(1);
     const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (result.ec == std::errc::result_out_of_range || (result.ec == std::errc() && !std::isfinite(value)))
+      lexer.fail(token, std::string(what) + ": expected a finite number, got " + quoted(token.text));
     if (result.ec != std::errc() || result.ptr != digits.data() + digits.size())
       lexer.fail(token, std::string(what) + ": expected a number, got " + quoted(token.text));
-    if (!std::isfinite(value)) lexer.fail(token, std::string(what) + ": expected a finite number, got " + quoted(token.text));
     return value;
   }
 
   /// [ v, v, ... ] or [ (a, b, c), ... ] with `tuple` numbers per element.
-  void parse_array(UsdaLexer &lexer, ArrayValue &target, int tuple, std::string_view what) {
-    const std::string name(what);
+  void parse_array(UsdaLexer &lexer, ArrayValue &target, int tuple, std::string_view name) {
+    const std::string_view tuple_detail = tuple == 3 ? ": a tuple of 3" : ": a tuple of 2";
     lexer.expect_punct('[', name);
     while (!is_punct(lexer.peek(), ']')) {
       if (tuple > 1) {
-        lexer.expect_punct('(', name + ": a tuple of " + std::to_string(tuple));
+        lexer.expect_punct('(', name, tuple_detail);
         for (int k = 0; k < tuple; ++k) {
-          if (k > 0) lexer.expect_punct(',', name + ": a tuple of " + std::to_string(tuple));
+          if (k > 0) lexer.expect_punct(',', name, tuple_detail);
           target.values.push_back(parse_number(lexer, name));
         }
-        lexer.expect_punct(')', name + ": a tuple of " + std::to_string(tuple));
+        lexer.expect_punct(')', name, tuple_detail);
       } else {
         target.values.push_back(parse_number(lexer, name));
       }
       if (is_punct(lexer.peek(), ',')) lexer.next();
-      else if (!is_punct(lexer.peek(), ']')) lexer.fail(lexer.peek(), name + ": expected ',' or ']', got " + UsdaLexer::describe(lexer.peek()));
+      else if (!is_punct(lexer.peek(), ']'))
+        lexer.fail(lexer.peek(), std::string(name) + ": expected ',' or ']', got " + UsdaLexer::describe(lexer.peek()));
     }
     lexer.next();
   }
@@ -461,8 +471,8 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
       hi = hi.cwiseMax(p);
     }
   }
-  float max_width = options.constant_width;
-  if (has_widths) max_width = strands.widths.empty() ? 0.0f : *std::max_element(strands.widths.begin(), strands.widths.end());
+  const float max_width =
+      has_widths ? *std::max_element(strands.widths.begin(), strands.widths.end()) : options.constant_width;
   const Eigen::Vector3f pad = Eigen::Vector3f::Constant(0.5f * max_width);
   lo -= pad;
   hi += pad;

@@ -5,6 +5,8 @@
 #include <limits>
 #include <string>
 
+#include <Eigen/SVD>
+
 #include "dynamics/skin_shapes.h"
 #include "dynamics/tridiagonal.h"
 #include "dynamics/wind.h"
@@ -105,19 +107,53 @@ struct GuideSimulator::State {
   Mesh mesh_from, mesh_to, mesh_sub;  // emitter at the previous pose, current pose, substep end
   std::vector<Eigen::Vector3f> sub_start_positions;
   std::unique_ptr<MeshQuery> query;
-  double skin_move = 0.0;  // largest vertex displacement over the current substep
+  // The emitter's motion over the current substep as a best-fit rigid motion p -> R p + t plus
+  // the largest vertex departure from it (the non-rigid residual), for the query-skipping bound.
+  Matrix3d skin_rotation = Matrix3d::Identity();
+  Vector3d skin_translation = Vector3d::Zero();
+  double skin_residual = 0.0;
 
   bool posed = false;
 
   size_t guide_count() const { return roots.size(); }
 
   void reset_guide(size_t g);
+  void fit_skin_motion();
   void substep_guide(size_t g, double s0, double s1, double h, double time_end);
-  void collide(int64_t begin, int64_t n, double h);
+  bool collide(int64_t begin, int64_t n, double h);
   int project_lengths(int64_t begin, int64_t n);
   void project_velocities(int64_t begin, int64_t n, const Eigen::Vector3d &first_velocity, const Eigen::Vector3d *v_in,
                           Eigen::Vector3d *v_out, double *r_lambda);
 };
+
+// Best rigid fit of the emitter's substep motion, sub_start_positions -> mesh_sub.positions
+// (Kabsch: centroids, then the rotation from the SVD of the cross-covariance), and the largest
+// distance of a vertex from where that motion puts it.
+void GuideSimulator::State::fit_skin_motion() {
+  const size_t count = sub_start_positions.size();
+  Vector3d c0 = Vector3d::Zero(), c1 = Vector3d::Zero();
+  for (size_t p = 0; p < count; ++p) {
+    c0 += sub_start_positions[p].cast<double>();
+    c1 += mesh_sub.positions[p].cast<double>();
+  }
+  c0 /= double(count);
+  c1 /= double(count);
+  Matrix3d covariance = Matrix3d::Zero();
+  for (size_t p = 0; p < count; ++p)
+    covariance += (sub_start_positions[p].cast<double>() - c0) * (mesh_sub.positions[p].cast<double>() - c1).transpose();
+  const Eigen::JacobiSVD<Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Matrix3d flip = Matrix3d::Identity();
+  flip(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  skin_rotation = svd.matrixV() * flip * svd.matrixU().transpose();
+  skin_translation = c1 - skin_rotation * c0;
+  double residual2 = 0.0;
+  for (size_t p = 0; p < count; ++p) {
+    const Vector3d carried = skin_rotation * sub_start_positions[p].cast<double>() + skin_translation;
+    residual2 = std::max(residual2, (mesh_sub.positions[p].cast<double>() - carried).squaredNorm());
+  }
+  // Float positions: a little slack for their rounding.
+  skin_residual = std::sqrt(residual2) + 1e-5 * (1.0 + c1.norm());
+}
 
 // Sets guide g at rest on the current pose (root_to), and solves compensated gravity.
 void GuideSimulator::State::reset_guide(size_t g) {
@@ -162,8 +198,10 @@ void GuideSimulator::State::reset_guide(size_t g) {
 
 // Pushes the free joints of one guide out of every shape and the emitter, recording for each
 // joint in contact the outward normal, the surface velocity and the friction coefficient.
-void GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
+// Returns whether any joint was pushed.
+bool GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
   const double margin = settings.collision_margin;
+  bool pushed = false;
   for (int64_t j = begin + 2; j < begin + n; ++j) {
     for (size_t s = 0; s < shapes_end.size(); ++s) {
       Vector3d normal;
@@ -171,6 +209,7 @@ void GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
       const double d = shape_distance(shapes_end[s], x[j], normal, axis_param);
       if (d >= margin) continue;
       x[j] += (margin - d) * normal;
+      pushed = true;
       contact_normal[j] = normal;
       contact_friction[j] = shapes_end[s].friction;
       const Vector3d velocity_a = (shapes_end[s].a - shapes_start[s].a) / h;
@@ -179,8 +218,11 @@ void GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
     }
     const double joint_margin = emitter_margin[j];
     if (!query || joint_margin < 0.0) continue;
-    // The distance to the surface is 1-Lipschitz in the point and moves at most as far as the
-    // skin does, so while this lower bound stays above the margin the query can be skipped.
+    // Query skipping. The distance to the surface is 1-Lipschitz in the point, does not change
+    // when point and surface move rigidly together, and changes by at most the residual when the
+    // surface deforms. query_point is the last queried point carried by the skin's rigid motion
+    // and skin_travel the summed residuals since, so this is a lower bound of the distance: while
+    // it stays above the margin the query can be skipped.
     const double bound = query_clearance[j] - (x[j] - query_point[j]).norm() - skin_travel[j];
     if (bound > joint_margin) continue;
     SurfacePoint closest;
@@ -188,6 +230,7 @@ void GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
     if (d < joint_margin) {
       const Vector3d normal = surface_normal(mesh_sub, closest).cast<double>();
       x[j] = surface_position(mesh_sub, closest).cast<double>() + joint_margin * normal;
+      pushed = true;
       contact_normal[j] = normal;
       contact_friction[j] = settings.emitter_friction;
       const Eigen::Vector3i &t = mesh_sub.triangles[closest.triangle];
@@ -200,6 +243,7 @@ void GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
     query_clearance[j] = std::max(d, joint_margin);  // after a push-out the joint sits at the margin
     skin_travel[j] = 0.0;
   }
+  return pushed;
 }
 
 // Post-stabilisation: Newton iterations on C_i(x) = |x_i - x_{i-1}| - l_i = 0 with the mass-
@@ -367,13 +411,15 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
     xs[j] += h * vs[j];
     contact_normal[begin + j] = Vector3d::Zero();
     correction[begin + j] = Vector3d::Zero();
-    skin_travel[begin + j] += skin_move;
+    skin_travel[begin + j] += skin_residual;
+    query_point[begin + j] = skin_rotation * query_point[begin + j] + skin_translation;
   }
 
   // 5. Collisions and exact lengths: push out, then restore lengths moving contacts tangentially.
   int solves = 2;
-  for (int round = 0; round < kCollisionRounds; ++round) {
-    collide(begin, n, h);
+  bool pushed = true;
+  for (int round = 0; round < kCollisionRounds && pushed; ++round) {
+    pushed = collide(begin, n, h);
     solves += project_lengths(begin, n);
   }
 
@@ -525,7 +571,13 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
         st.mesh_sub.positions[p] = st.mesh_from.positions[p] + float(s1) * (st.mesh_to.positions[p] - st.mesh_from.positions[p]);
         move2 = std::max(move2, double((st.mesh_sub.positions[p] - st.sub_start_positions[p]).squaredNorm()));
       }
-      st.skin_move = std::sqrt(move2);
+      if (move2 > 0.0) {
+        st.fit_skin_motion();
+      } else {
+        st.skin_rotation = Matrix3d::Identity();
+        st.skin_translation = Vector3d::Zero();
+        st.skin_residual = 0.0;
+      }
       // A still emitter (a held pose, a pre-roll) keeps its tree.
       if (move2 > 0.0 || !st.query) {
         st.mesh_sub.compute_normals();

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <thread>
@@ -48,14 +49,18 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+/// Median wall-clock seconds, and median CPU seconds summed over threads (r_cpu).
 template <class F>
-double time_median(int runs, F &&f) {
-  std::vector<double> times;
+double time_median(int runs, F &&f, double *r_cpu = nullptr) {
+  std::vector<double> times, cpu_times;
   for (int run = 0; run < runs; ++run) {
     const auto start = std::chrono::steady_clock::now();
+    const std::clock_t cpu_start = std::clock();
     f();
+    cpu_times.push_back(double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
+  if (r_cpu) *r_cpu = median(cpu_times);
   return median(times);
 }
 
@@ -114,18 +119,22 @@ int main() {
     field_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%-44s %10.1f ms (once)\n", "parting field, 1 partial line", field_seconds * 1e3);
     double fur_rate = 0.0;
-    std::printf("%-44s %10s %14s %8s\n", "growth, 100k x 32 points (median of 5)", "ms", "points/s", "vs fur");
+    std::printf("%-44s %10s %14s %8s %22s\n", "growth, 100k x 32 points (median of 5)", "ms", "points/s", "vs fur",
+                "points/CPU-s x cores");
     for (const auto method : {InterpolationSettings::Method::fur, InterpolationSettings::Method::streamline}) {
       InterpolationSettings settings;
       settings.method = method;
       const interp::Binding binding = interp::bind(mesh, guides, roots, settings, &field);
       interp::GrowOptions options;
       StrandSet grown;
-      const double seconds = time_median(5, [&] { interp::grow(binding, mesh, query, roots, guides.strands, options, grown); });
+      double cpu = 0.0;
+      const double seconds =
+          time_median(5, [&] { interp::grow(binding, mesh, query, roots, guides.strands, options, grown); }, &cpu);
       const double rate = double(grown.point_count()) / seconds;
       if (method == InterpolationSettings::Method::fur) fur_rate = rate;
-      std::printf("  %-42s %10.1f %14.3e %7.2fx\n", method == InterpolationSettings::Method::fur ? "fur" : "streamline",
-                  seconds * 1e3, rate, rate / fur_rate);
+      std::printf("  %-42s %10.1f %14.3e %7.2fx %22.3e\n",
+                  method == InterpolationSettings::Method::fur ? "fur" : "streamline", seconds * 1e3, rate,
+                  rate / fur_rate, double(grown.point_count()) / cpu * omp_get_max_threads());
     }
   }
   {
@@ -133,9 +142,11 @@ int main() {
     const interp::PartingField field(mesh, guides, two_lines);
     const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     InterpolationSettings settings;
-    const double bind_seconds = time_median(3, [&] { interp::bind(mesh, guides, roots, settings, &field); });
+    double bind_cpu = 0.0;
+    const double bind_seconds = time_median(3, [&] { interp::bind(mesh, guides, roots, settings, &field); }, &bind_cpu);
     std::printf("\n%-44s %10.1f ms (once)\n", "parting field, 2 partial lines", build * 1e3);
-    std::printf("%-44s %10.1f ms (median of 3)\n", "bind 100k roots, 400 guides, 2 partial lines", bind_seconds * 1e3);
+    std::printf("%-44s %10.1f ms (median of 3; %.1f CPU-ms)\n", "bind 100k roots, 400 guides, 2 partial lines",
+                bind_seconds * 1e3, bind_cpu * 1e3);
     std::printf("%-44s %10.1f ms\n", "field + bind", (build + bind_seconds) * 1e3);
   }
   return 0;

@@ -132,21 +132,6 @@ inline float segment_distance(const Eigen::Vector3f &p0, const Eigen::Vector3f &
   return float((r + d1 * s - d2 * t).norm());
 }
 
-/// Pairs of strands with segments closer than `tolerance` (all pairs: small inputs only).
-inline size_t count_close_pairs(const StrandSet &strands, float tolerance) {
-  size_t pairs = 0;
-  for (size_t i = 0; i < strands.strand_count(); ++i)
-    for (size_t j = i + 1; j < strands.strand_count(); ++j) {
-      const auto a = strands.points(i), b = strands.points(j);
-      bool close = false;
-      for (size_t u = 0; u + 1 < a.size() && !close; ++u)
-        for (size_t v = 0; v + 1 < b.size() && !close; ++v)
-          close = segment_distance(a[u], a[u + 1], b[v], b[v + 1]) < tolerance;
-      pairs += close;
-    }
-  return pairs;
-}
-
 /// Non-root points with a negative signed distance to the skin.
 inline size_t count_inside(const MeshQuery &query, const StrandSet &strands, float tolerance = 0.0f) {
   size_t inside = 0;

@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "interp/check.h"
 #include "interp/interp_fixtures.h"
 #include "interp/interpolate.h"
 
@@ -84,6 +85,13 @@ struct CapScene {
     roots = scatter_roots(mesh, root_count, 11, cap);
   }
 };
+
+// The checker's counts (interp/check.h), as `plume check` reports them.
+size_t checker_crossings(const StrandSet &strands) { return interp::count_crossings(strands, 2e-4f, 0).pairs; }
+size_t checker_inside(const MeshQuery &query, const StrandSet &strands) {
+  std::vector<uint64_t> examples;
+  return interp::count_points_inside(strands, query, 0.0f, 0, examples);
+}
 
 StrandSet grow_all(const interp::Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
                    const StrandSet &guides, int points = 32) {
@@ -278,16 +286,16 @@ TEST_CASE("streamline over a curved patch: no crossing pairs and no point inside
     REQUIRE(count_inside(scene.query, scene.guides.strands) == 0);
     const interp::Binding binding = interp::bind(scene.mesh, scene.guides, scene.roots, settings_for(Method::streamline));
     const StrandSet strands = grow_all(binding, scene.mesh, scene.query, scene.roots, scene.guides.strands);
-    CHECK(count_close_pairs(strands, 2e-4f) == 0);
-    CHECK(count_inside(scene.query, strands) == 0);
+    CHECK(checker_crossings(strands) == 0);
+    CHECK(checker_inside(scene.query, strands) == 0);
   }
   SECTION("guides of unequal length and point count") {
     CapScene scene([](int i) { return arc_shape(0.4f + 0.15f * float(i % 4)); }, 24,
                    [](int i) { return 0.5f + 0.25f * float(i % 4); }, 120);
     const interp::Binding binding = interp::bind(scene.mesh, scene.guides, scene.roots, settings_for(Method::streamline));
     const StrandSet strands = grow_all(binding, scene.mesh, scene.query, scene.roots, scene.guides.strands);
-    CHECK(count_close_pairs(strands, 2e-4f) == 0);
-    CHECK(count_inside(scene.query, strands) == 0);
+    CHECK(checker_crossings(strands) == 0);
+    CHECK(checker_inside(scene.query, strands) == 0);
   }
 }
 
@@ -307,8 +315,8 @@ TEST_CASE("streamline over curly guides: no crossing pairs and no point inside t
     REQUIRE(count_inside(scene.query, scene.guides.strands) == 0);
     const interp::Binding binding = interp::bind(scene.mesh, scene.guides, scene.roots, settings_for(Method::streamline));
     const StrandSet strands = grow_all(binding, scene.mesh, scene.query, scene.roots, scene.guides.strands);
-    CHECK(count_close_pairs(strands, 2e-4f) == 0);
-    CHECK(count_inside(scene.query, strands) == 0);
+    CHECK(checker_crossings(strands) == 0);
+    CHECK(checker_inside(scene.query, strands) == 0);
   }
 
 TEST_CASE("near a guide, the deviation from it shrinks to 0 as the root approaches the guide root", "[interp]") {

@@ -26,7 +26,7 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
 // Relative tolerance on segment lengths at the end of a substep.
-constexpr double kLengthTolerance = 1e-9;
+constexpr double kLengthTolerance = 1e-8;
 // Newton iterations of the post-stabilisation before the exact root-to-tip fallback.
 constexpr int kMaxProjectionIterations = 8;
 // Rounds of (push out of shapes, restore lengths) per substep.

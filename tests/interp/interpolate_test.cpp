@@ -423,3 +423,42 @@ TEST_CASE("push_out_of_skin leaves no point inside and keeps roots", "[interp]")
   for (size_t s = 0; s < strands.strand_count(); ++s) CHECK(strands.points(s)[0] == before.points(s)[0]);
   CHECK(all_finite(strands));
 }
+
+TEST_CASE("binding with hard zones: no influence across zones, a zone without guides is an error", "[interp]") {
+  Mesh mesh = make_plane(4.0f, 8);
+  mesh.group_names = {"left", "right"};
+  for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+    const Eigen::Vector3i &t = mesh.triangles[f];
+    const float x = (mesh.positions[size_t(t[0])].x() + mesh.positions[size_t(t[1])].x() + mesh.positions[size_t(t[2])].x()) / 3.0f;
+    mesh.triangle_groups[f] = x < 0.0f ? 0 : 1;
+  }
+  const MeshQuery query(mesh);
+  StrandSet strands;
+  for (int i = 0; i < 6; ++i) {
+    const float x = -1.25f + 0.5f * float(i), y = 0.3f * float(i % 3) - 0.3f;
+    strands.append(std::vector<Eigen::Vector3f>{{x, y, 0.0f}, {x, y, 0.5f}, {x + 0.2f, y, 1.0f}}, uint64_t(i));
+  }
+  const Guides guides = bind_guides(query, strands, "zones");
+  PartingSettings zones;
+  zones.zone_source = PartingSettings::ZoneSource::face_groups;
+  const interp::PartingField field(mesh, guides, zones);
+  const Roots roots = scatter_roots(mesh, 400, 3);
+  for (const Method method : {Method::streamline, Method::fur}) {
+    const interp::Binding binding = interp::bind(mesh, guides, roots, settings_for(method), &field);
+    size_t across = 0;
+    for (size_t r = 0; r < roots.size(); ++r)
+      for (int s = 0; s < binding.k; ++s) {
+        const int32_t g = binding.guide_ids[r * size_t(binding.k) + size_t(s)];
+        if (g >= 0) across += field.guide_zone(size_t(g)) != field.zone_of(roots.points[r]);
+      }
+    CHECK(across == 0);
+    const StrandSet grown = grow_all(binding, mesh, query, roots, guides.strands);
+    CHECK(all_finite(grown));
+  }
+  // Guides only on the left: the right zone's roots have no guide.
+  StrandSet left;
+  for (size_t g = 0; g < 3; ++g) left.append(strands.points(g), g);
+  const Guides left_guides = bind_guides(query, left, "left");
+  const interp::PartingField left_field(mesh, left_guides, zones);
+  CHECK_THROWS_AS(interp::bind(mesh, left_guides, roots, settings_for(Method::streamline), &left_field), InputError);
+}

@@ -9,8 +9,8 @@
 #include <unordered_map>
 
 #include "groom/error.h"
-#include "interp/interpolate.h"
 #include "interp/noise.h"
+#include "interp/skin_guard.h"
 
 namespace plume::interp {
 
@@ -462,7 +462,9 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   for (int64_t i = 0; i < n; ++i)
     if (r_strands.points_in(size_t(i)) < 2) throw InternalError("EffectStack::apply: a strand has fewer than 2 points");
 
-  if (!effects_.empty()) {
+  if (effects_.empty()) return;
+  std::vector<Eigen::Vector3f> grown_positions;
+  {
     std::vector<SurfaceFrame> posed_frames(static_cast<size_t>(n));
 #pragma omp parallel for schedule(static)
     for (int64_t i = 0; i < n; ++i) posed_frames[i] = surface_frame(posed_mesh, root_points_[i]);
@@ -484,6 +486,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       }
     }
 
+    grown_positions = r_strands.positions;
     for (const Prepared &e : effects_) {
       // One pass per effect: a clump reads its centre strands as the previous effects left them.
 #pragma omp parallel
@@ -521,7 +524,20 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       }
     }
   }
-  push_out_of_skin(posed_query, skin_margin, r_strands);
+  // Grown strands are at least skin_margin outside the skin (growth pushes them out), and the signed
+  // distance is 1-Lipschitz, so a point the stack moved by less than the margin is still outside. Only
+  // the others are pushed out, with the skin guard growth and push_out_of_skin() use (which skips
+  // queries by the same bound along the strand). This keeps the stack's skin pass to the points it moved.
+  const float scale = mesh_scale(posed_mesh);
+#pragma omp parallel for schedule(static)
+  for (int64_t i = 0; i < n; ++i) {
+    const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
+    const Eigen::Vector3f *grown = grown_positions.data() + r_strands.offsets[i];
+    SkinGuard guard(posed_query, skin_margin, scale);
+    guard.start(pts[0]);  // the root never moves and lies on the skin
+    for (size_t j = 1; j < pts.size(); ++j)
+      if ((pts[j] - grown[j]).squaredNorm() >= skin_margin * skin_margin) guard.keep_out(pts[j]);
+  }
 }
 
 }  // namespace plume::interp

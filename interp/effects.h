@@ -36,12 +36,15 @@ class EffectStack {
   /// Applies the stack in order to `r_strands`, grown this frame (strand i has id roots.ids[i], same
   /// order as the roots; every strand has at least 2 points). `posed_mesh` is the emitter at this frame
   /// (same topology as the rest mesh) and `posed_query` a query on it; `guides_this_frame` the guides at
-  /// this frame (same order as the rest guides). Point counts never change. Ends with no point inside
-  /// the skin: points closer than `skin_margin` (scene units) are pushed out along the normal.
+  /// this frame (same order as the rest guides). Point counts never change. The strands are expected
+  /// at least `skin_margin` (scene units) outside the skin, as grow() leaves them; the stack ends with no
+  /// point inside the skin: every point it moved by `skin_margin` or more and that is then closer than
+  /// `skin_margin` is pushed out along the normal (the points it moved less are still outside, since the
+  /// signed distance is 1-Lipschitz). An empty stack leaves the strands as they are.
   void apply(const Mesh &posed_mesh, const MeshQuery &posed_query, const StrandSet &guides_this_frame,
              float skin_margin, StrandSet &r_strands) const;
 
-  /// True when the stack has no effect (apply then only pushes points out of the skin).
+  /// True when the stack has no effect (apply then leaves strands untouched).
   bool empty() const;
   /// For effect `effect` of the stack, a clump: one entry per strand, the index of its clump's centre
   /// strand (a centre is its own centre; -1: no clump, e.g. no guide). Empty for other effect types.

@@ -18,7 +18,7 @@ class SimplexNoise3 {
 
   /// One channel at `p` (lattice units: about one bump per unit).
   float at(const Eigen::Vector3f &p) const;
-  /// Three decorrelated channels: the field sampled at three offsets far apart in the period.
+  /// Three independent channels (same lattice, unrelated gradients), each in [-1, 1].
   Eigen::Vector3f vector_at(const Eigen::Vector3f &p) const;
 
  private:

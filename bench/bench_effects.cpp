@@ -1,0 +1,160 @@
+// Regrowth time of 100k strands x 32 points with and without the full effects stack (every effect type,
+// two clump levels), on a sphere with 400 guides. The budget: the stack adds at most 50%.
+#include <omp.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "groom/guides.h"
+#include "groom/mesh.h"
+#include "groom/mesh_query.h"
+#include "groom/roots.h"
+#include "interp/effects.h"
+#include "interp/interpolate.h"
+
+using namespace plume;
+
+namespace {
+
+Mesh make_sphere(float radius, int rings, int segments) {
+  Mesh mesh;
+  for (int r = 0; r <= rings; ++r) {
+    const float theta = float(M_PI) * float(r) / float(rings);
+    for (int s = 0; s <= segments; ++s) {
+      const float phi = 2.0f * float(M_PI) * float(s) / float(segments);
+      mesh.positions.emplace_back(radius * std::sin(theta) * std::cos(phi), radius * std::cos(theta),
+                                  radius * std::sin(theta) * std::sin(phi));
+      mesh.uvs.emplace_back(float(s) / float(segments), 1.0f - float(r) / float(rings));
+    }
+  }
+  auto index = [&](int r, int s) { return r * (segments + 1) + s; };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s)
+      for (const Eigen::Vector3i &t : {Eigen::Vector3i(index(r, s), index(r, s + 1), index(r + 1, s)),
+                                       Eigen::Vector3i(index(r, s + 1), index(r + 1, s + 1), index(r + 1, s))}) {
+        mesh.triangles.push_back(t);
+        mesh.triangle_uvs.push_back(t);
+      }
+  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
+  mesh.group_names = {"default"};
+  mesh.compute_normals();
+  return mesh;
+}
+
+/// 400 guides of 12 points: out along the normal, combed down (-y) toward the tip.
+StrandSet make_guides(const Mesh &mesh, const Roots &roots) {
+  StrandSet guides;
+  std::vector<Eigen::Vector3f> pts(12);
+  for (size_t g = 0; g < roots.size(); ++g) {
+    const SurfaceFrame f = surface_frame(mesh, roots.points[g]);
+    Eigen::Vector3f p = f.origin;
+    for (int j = 0; j < 12; ++j) {
+      pts[j] = p;
+      const float t = float(j) / 11.0f;
+      p += 0.06f * (f.normal() * (1.0f - t) - Eigen::Vector3f::UnitY() * t + 0.3f * f.basis.col(0)).normalized();
+    }
+    guides.append(pts, roots.ids[g]);
+  }
+  return guides;
+}
+
+std::vector<EffectDesc> full_stack() {
+  auto make = [](EffectType type, float amount, uint64_t seed) {
+    EffectDesc d;
+    d.type = type;
+    d.amount = amount;
+    d.seed = seed;
+    d.ramp = Ramp::linear(0.0f, 1.0f);
+    return d;
+  };
+  EffectDesc large = make(EffectType::clump, 0.6f, 1);
+  large.clump_radius = 0.12f;
+  large.clump_twist = 0.2f;
+  large.stray_fraction = 0.05f;
+  EffectDesc small = make(EffectType::clump, 0.5f, 2);
+  small.clump_radius = 0.03f;
+  EffectDesc tension = make(EffectType::tension, 0.2f, 3);
+  EffectDesc length = make(EffectType::length, 1.0f, 4);
+  length.length_distribution = EffectDesc::LengthDistribution::normal;
+  length.length_variation = 0.1f;
+  EffectDesc wave = make(EffectType::wave, 1.0f, 5);
+  wave.frequency = 3.0f;
+  wave.amplitude = 0.05f;
+  EffectDesc frizz = make(EffectType::frizz, 1.0f, 6);
+  frizz.frequency = 30.0f;
+  frizz.amplitude = 0.01f;
+  frizz.fraction = 0.2f;
+  EffectDesc curl = make(EffectType::curl, 1.0f, 7);
+  curl.curl_radius = 0.01f;
+  curl.turns_per_unit = 8.0f;
+  return {large, small, tension, length, wave, frizz, curl};
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int main() {
+  const int strand_count = 100000, points = 32, repeats = 7;
+  const Mesh rest = make_sphere(1.0f, 64, 128);
+  const MeshQuery rest_query(rest);
+  const Roots guide_roots = scatter_roots(rest, 400, 11);
+  const Guides guides = bind_guides(rest_query, make_guides(rest, guide_roots), "bench guides");
+  const Roots roots = scatter_roots(rest, strand_count, 3);
+  InterpolationSettings settings;
+  const interp::Binding binding = interp::bind(rest, guides, roots, settings);
+  std::vector<int32_t> nearest(roots.size());
+  for (size_t i = 0; i < roots.size(); ++i) nearest[i] = binding.guide_ids[i * size_t(binding.k)];
+
+  // The frame: the head turned and moved (rigidly), guides carried by the skin.
+  Mesh posed = rest;
+  const Eigen::Matrix3f rotation = Eigen::AngleAxisf(0.5f, Eigen::Vector3f(0.2f, 1.0f, 0.1f).normalized()).toRotationMatrix();
+  for (Eigen::Vector3f &p : posed.positions) p = rotation * p + Eigen::Vector3f(0.1f, 0.2f, -0.3f);
+  posed.compute_normals();
+  const MeshQuery posed_query(posed);
+  const StrandSet posed_guides = carry_guides(rest, posed, guides);
+  interp::GrowOptions options;
+  options.points_per_strand = points;
+
+  const auto t_prepare = std::chrono::steady_clock::now();
+  const interp::EffectStack stack(full_stack(), rest, roots, guides, nearest);
+  const double prepare = seconds_since(t_prepare);
+
+  StrandSet strands;
+  std::vector<double> grow_only, grow_and_stack, stack_only;
+  for (int r = 0; r < repeats; ++r) {
+    auto t0 = std::chrono::steady_clock::now();
+    interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands);
+    grow_only.push_back(seconds_since(t0));
+
+    t0 = std::chrono::steady_clock::now();
+    interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands);
+    const auto t1 = std::chrono::steady_clock::now();
+    stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands);
+    grow_and_stack.push_back(seconds_since(t0));
+    stack_only.push_back(seconds_since(t1));
+  }
+
+  const double base = median(grow_only), full = median(grow_and_stack);
+  std::printf("bench_effects: %d strands x %d points, 400 guides, streamline k=%d, %d cores (%d OpenMP threads), "
+              "median of %d\n",
+              strand_count, points, settings.k, omp_get_num_procs(), omp_get_max_threads(), repeats);
+  std::printf("%-34s %10s\n", "figure", "seconds");
+  std::printf("%-34s %10.3f\n", "stack preparation (once)", prepare);
+  std::printf("%-34s %10.3f\n", "regrowth, no effects (baseline)", base);
+  std::printf("%-34s %10.3f\n", "effects stack alone (7 effects)", median(stack_only));
+  std::printf("%-34s %10.3f\n", "regrowth + effects stack", full);
+  std::printf("ratio with / without stack: %.2f (budget 1.50) %s\n", full / base, full / base <= 1.5 ? "ok" : "OVER");
+  return 0;
+}

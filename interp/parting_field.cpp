@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include "groom/error.h"
@@ -65,7 +66,16 @@ struct PartingField::Impl {
   struct Partial {
     float gamma = 1.0f;
     GeodesicGraph graph;
-    std::vector<float> fields;  // #guides by graph.node_count(), distances on the cut mesh
+    /// Intact-graph nodes of the vertices on the cut.
+    std::vector<int> cut_nodes;
+    /// Longest link that can start next to the cut and jump over it (twice the longest edge of
+    /// the triangles touching it).
+    float jump = 0.0f;
+    /// #guides: a lower bound on the intact distance from the guide to any path crossing the line.
+    std::vector<float> reach;
+    /// #guides by graph.node_count(), distances on the cut mesh, each filled on first use.
+    mutable std::vector<float> fields;
+    std::unique_ptr<std::once_flag[]> ready;
   };
   std::unique_ptr<GeodesicGraph> intact;
   std::vector<float> intact_fields;  // #guides by intact->node_count()
@@ -75,9 +85,18 @@ struct PartingField::Impl {
   std::span<const float> intact_field(size_t guide) const {
     return {intact_fields.data() + guide * intact->node_count(), intact->node_count()};
   }
+  /// The cut-mesh distance field of a guide, computed on first use (thread-safe; the result does
+  /// not depend on which thread computes it).
   std::span<const float> cut_field(size_t line, size_t guide) const {
     const Partial &p = partials[line];
-    return {p.fields.data() + guide * p.graph.node_count(), p.graph.node_count()};
+    float *field = p.fields.data() + guide * p.graph.node_count();
+    std::call_once(p.ready[guide], [&] {
+      GeodesicGraph::Scratch scratch;
+      std::vector<float> distance;
+      p.graph.distances_from(mesh, guide_roots[guide], distance, scratch);
+      std::copy(distance.begin(), distance.end(), field);
+    });
+    return {field, p.graph.node_count()};
   }
 };
 
@@ -245,34 +264,56 @@ PartingField::PartingField(const Mesh &rest_mesh, const Guides &guides, const Pa
   for (size_t g = 0; g < guides.size(); ++g) im.guide_zones[g] = zone_of(guides.roots[g]);
 
   // Partial lines: one distance field per guide on the intact mesh, shared by every line, and one
-  // per guide and line on the mesh cut open along that line.
-  std::vector<std::vector<uint64_t>> partial_edges;
+  // per guide and line on the mesh cut open along that line. The cut fields are computed on first
+  // use: a root whose intact distances from a guide all stay below the guide's reach to the line
+  // has D1 = D, so guides far from a line (most of them) never need one.
+  const size_t guide_count = guides.size();
+  im.intact = std::make_unique<GeodesicGraph>(im.mesh, topology);
   for (const PartingLine &line : settings.lines) {
     if (line.hard) continue;
     std::vector<SurfacePoint> snapped;
     for (const Eigen::Vector3f &p : line.points) snapped.push_back(query.closest(p));
-    partial_edges.push_back(polyline_edge_path(im.mesh, topology, snapped, line.closed));
-    Impl::Partial partial{line.gamma, GeodesicGraph(im.mesh, topology, cut_from_edges(im.mesh, topology, partial_edges.back())), {}};
+    const std::vector<uint64_t> edges = polyline_edge_path(im.mesh, topology, snapped, line.closed);
+    Impl::Partial partial{line.gamma, GeodesicGraph(im.mesh, topology, cut_from_edges(im.mesh, topology, edges)),
+                          {}, 0.0f, {}, {}, {}};
+    std::vector<bool> on_cut(im.mesh.vertex_count(), false);
+    for (const uint64_t key : edges) on_cut[size_t(key >> 32)] = on_cut[size_t(uint32_t(key))] = true;
+    for (size_t t = 0; t < im.mesh.triangle_count(); ++t)
+      for (int c = 0; c < 3; ++c) {
+        if (!on_cut[size_t(topology.welded[size_t(im.mesh.triangles[t][c])])]) continue;
+        partial.cut_nodes.push_back(im.intact->node(int(t), c));
+        for (int e = 0; e < 3; ++e)
+          partial.jump = std::max(partial.jump, 2.0f * (im.mesh.positions[size_t(im.mesh.triangles[t][(e + 1) % 3])] -
+                                                        im.mesh.positions[size_t(im.mesh.triangles[t][e])])
+                                                           .norm());
+      }
+    std::sort(partial.cut_nodes.begin(), partial.cut_nodes.end());
+    partial.cut_nodes.erase(std::unique(partial.cut_nodes.begin(), partial.cut_nodes.end()), partial.cut_nodes.end());
+    partial.reach.assign(guide_count, kInfinity);
+    partial.fields.resize(guide_count * partial.graph.node_count());
+    partial.ready = std::make_unique<std::once_flag[]>(guide_count);
     im.partials.push_back(std::move(partial));
   }
-  if (im.partials.empty()) return;
+  if (im.partials.empty()) {
+    im.intact.reset();
+    return;
+  }
 
-  im.intact = std::make_unique<GeodesicGraph>(im.mesh, topology);
-  const size_t guide_count = guides.size();
   im.intact_fields.resize(guide_count * im.intact->node_count());
-  for (Impl::Partial &p : im.partials) p.fields.resize(guide_count * p.graph.node_count());
 #pragma omp parallel
   {
     GeodesicGraph::Scratch scratch;
     std::vector<float> field;
 #pragma omp for schedule(dynamic, 4)
     for (int64_t g = 0; g < int64_t(guide_count); ++g) {
-      const SurfacePoint &root = guides.roots[size_t(g)];
-      im.intact->distances_from(im.mesh, root, field, scratch);
+      im.intact->distances_from(im.mesh, guides.roots[size_t(g)], field, scratch);
       std::copy(field.begin(), field.end(), im.intact_fields.begin() + g * int64_t(im.intact->node_count()));
+      // A path that crosses the line either passes a cut vertex v (length >= d(v)) or jumps over a
+      // cut edge on a link of length <= jump starting at a node c next to v (d(c) >= d(v) - jump).
       for (Impl::Partial &p : im.partials) {
-        p.graph.distances_from(im.mesh, root, field, scratch);
-        std::copy(field.begin(), field.end(), p.fields.begin() + g * int64_t(p.graph.node_count()));
+        float nearest = kInfinity;
+        for (const int n : p.cut_nodes) nearest = std::min(nearest, field[size_t(n)]);
+        p.reach[size_t(g)] = nearest - p.jump;
       }
     }
   }
@@ -330,8 +371,14 @@ float PartingField::weight_factor(const SurfacePoint &root, size_t guide) const 
   const float d = geodesic_distance(root, guide);
   // Not connected on the surface at all (separate mesh pieces): partings have nothing to say.
   if (d == kInfinity || d <= 0.0f) return 1.0f;
+  const std::span<const float> intact = im.intact_field(guide);
+  float farthest_corner = 0.0f;
+  for (int c = 0; c < 3; ++c)
+    farthest_corner = std::max(farthest_corner, intact[size_t(im.intact->node(root.triangle, c))]);
   float factor = 1.0f;
   for (size_t l = 0; l < im.partials.size(); ++l) {
+    // Shortest paths to the root's corners that stop short of the line exist on the cut mesh too.
+    if (farthest_corner < im.partials[l].reach[guide] || root.triangle == im.guide_roots[guide].triangle) continue;
     const float d1 = detour_distance(root, guide, l);
     if (d1 == kInfinity) return 0.0f;
     // Every path on the cut mesh is a path on the intact mesh, so d1 >= d node by node and

@@ -94,6 +94,14 @@ TEST_CASE("a partial parting multiplies the weight by (D / D1)^gamma with surfac
   CHECK(d1 == Approx((c - tip).norm() + (tip - h).norm()).epsilon(0.08));
   CHECK(field.weight_factor(root, 0) == Approx(std::pow(d / d1, 2.0f)).epsilon(1e-5));
   CHECK(field.weight_factor(root, 0) < 0.1f);
+
+  // Roots far from the line skip the cut field; the factor still is the formula everywhere.
+  for (int j = 0; j <= 20; ++j)
+    for (int i = 0; i <= 20; ++i) {
+      const SurfacePoint p = at(query, -0.97f + 0.097f * float(i), -0.97f + 0.097f * float(j));
+      const float expected = std::pow(std::min(1.0f, field.geodesic_distance(p, 0) / field.detour_distance(p, 0, 0)), 2.0f);
+      REQUIRE(field.weight_factor(p, 0) == Approx(expected).margin(1e-6));
+    }
 }
 
 TEST_CASE("a root on the guide's side of a partial parting keeps the full weight", "[parting]") {

@@ -463,7 +463,8 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     if (r_strands.points_in(size_t(i)) < 2) throw InternalError("EffectStack::apply: a strand has fewer than 2 points");
 
   if (effects_.empty()) return;
-  std::vector<Eigen::Vector3f> grown_positions;
+  // The strands as growth left them, for the skin pass at the end.
+  const std::vector<Eigen::Vector3f> grown_positions = r_strands.positions;
   {
     std::vector<SurfaceFrame> posed_frames(static_cast<size_t>(n));
 #pragma omp parallel for schedule(static)
@@ -486,7 +487,6 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       }
     }
 
-    grown_positions = r_strands.positions;
     for (const Prepared &e : effects_) {
       // One pass per effect: a clump reads its centre strands as the previous effects left them.
 #pragma omp parallel

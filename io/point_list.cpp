@@ -6,7 +6,11 @@
 namespace plume::io {
 
 std::vector<Eigen::Vector3f> read_points(const std::string &path) {
-  if (detail::extension_of(path) != ".txt") {
+  const std::string ext = detail::extension_of(path);
+  if (ext != ".txt" && ext != ".hair" && ext != ".ply" && ext != ".usda" && ext != ".obj")
+    throw InputError(FileLoc{path}, "point list: expected extension .txt, .hair, .ply, .usda or .obj, got " +
+                                        detail::quoted(ext));
+  if (ext != ".txt") {
     const StrandSet strands = read_strands(path);
     std::vector<Eigen::Vector3f> roots(strands.strand_count());
     for (size_t s = 0; s < roots.size(); ++s) roots[s] = strands.positions[strands.offsets[s]];

@@ -130,4 +130,6 @@ TEST_CASE("a missing file is an input error that names the file", "[io]") {
 TEST_CASE("an unknown strand file extension is an input error naming the accepted ones", "[io]") {
   CHECK_THROWS_WITH(plume::io::read_strands(PLUME_TEST_DATA "/bad/points_nan.txt"),
                     Catch::Contains("points_nan.txt: strand file: expected extension .hair, .ply, .usda or .obj, got \".txt\""));
+  CHECK_THROWS_WITH(plume::io::read_points(PLUME_TEST_DATA "/bad/roots.yaml"),
+                    Catch::Contains("roots.yaml: point list: expected extension .txt, .hair, .ply, .usda or .obj, got \".yaml\""));
 }

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "interp/geodesic.h"
 
 namespace plume::interp {
 
@@ -72,13 +71,11 @@ size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, flo
   const float eps = 1e-5f * mesh_diagonal(query.mesh());
   const int64_t strand_count = int64_t(strands.strand_count());
   std::vector<uint32_t> inside_per_strand(size_t(strand_count), 0);
-  // On a closed mesh the unsigned distance is 1-Lipschitz and a point can only change side by
-  // passing through the skin, so after a point at distance d outside, the following points within
-  // d - margin of travel are outside too and need no query. On an open mesh "inside" is the sign
-  // of the normal at the closest point, which can flip without crossing: query every point.
-  const MeshTopology topology = build_topology(query.mesh());
-  bool closed = true;
-  for (const Eigen::Vector3i &n : topology.neighbours) closed = closed && n.minCoeff() >= 0;
+  // The unsigned distance to the skin is 1-Lipschitz and a strand can only get inside by passing
+  // through the skin, so after a point at distance d outside, the following points within
+  // d - margin of travel along the strand are outside and need no query. (On an open mesh this
+  // defines "inside" as "reached through the skin": a point far behind an open border that the
+  // strand reached without touching the skin is outside.)
 #pragma omp parallel for schedule(dynamic, 256)
   for (int64_t s = 0; s < strand_count; ++s) {
     const auto points = strands.points(size_t(s));
@@ -86,7 +83,7 @@ size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, flo
     float free_travel = 0.0f;  // distance the next points may move and stay surely outside
     for (size_t j = 0; j < points.size(); ++j) {
       const float threshold = (j == 0 ? 0.0f : skin_margin) - eps;
-      if (j > 0 && closed) {
+      if (j > 0) {
         free_travel -= (points[j] - points[j - 1]).norm();
         if (free_travel > 0.0f) continue;
       }
@@ -121,25 +118,46 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
     }
   const size_t segment_count = segment_start.size();
   if (segment_count < 2) return result;
-  const float cell = std::max(2.0f * tolerance, float(length_sum / double(segment_count)));
+  // Cells of a third of the mean segment length (at least twice the tolerance), and segments cut
+  // into pieces no longer than a cell, so a dense bundle of long segments is still split finely.
+  const float cell = std::max(2.0f * tolerance, float(length_sum / double(segment_count)) / 3.0f);
   if (!(cell > 0.0f)) return result;
   const float half_tol = 0.5f * tolerance;
-
-  const auto cell_range = [&](size_t i, Eigen::Vector3i &lo, Eigen::Vector3i &hi) {
-    const Vector3f &a = strands.positions[segment_start[i]], &b = strands.positions[segment_start[i] + 1];
-    const Vector3f low = a.cwiseMin(b).array() - half_tol, high = a.cwiseMax(b).array() + half_tol;
+  std::vector<uint32_t> piece_segment;
+  std::vector<uint8_t> piece_index, piece_total;  // piece k of m of its segment
+  for (size_t i = 0; i < segment_count; ++i) {
+    const float length = (strands.positions[segment_start[i] + 1] - strands.positions[segment_start[i]]).norm();
+    const int m = std::clamp(int(std::ceil(length / cell)), 1, 255);
+    for (int k = 0; k < m; ++k) {
+      piece_segment.push_back(uint32_t(i));
+      piece_index.push_back(uint8_t(k));
+      piece_total.push_back(uint8_t(m));
+    }
+  }
+  const size_t piece_count = piece_segment.size();
+  const auto piece_box = [&](size_t q, Vector3f &r_low, Vector3f &r_high) {
+    const Vector3f &a = strands.positions[segment_start[piece_segment[q]]];
+    const Vector3f d = strands.positions[segment_start[piece_segment[q]] + 1] - a;
+    const float m = float(piece_total[q]);
+    const Vector3f p0 = a + d * (float(piece_index[q]) / m), p1 = a + d * (float(piece_index[q] + 1) / m);
+    r_low = p0.cwiseMin(p1).array() - half_tol;
+    r_high = p0.cwiseMax(p1).array() + half_tol;
+  };
+  const auto cell_range = [&](size_t q, Eigen::Vector3i &lo, Eigen::Vector3i &hi) {
+    Vector3f low, high;
+    piece_box(q, low, high);
     for (int k = 0; k < 3; ++k) {
       lo[k] = int(std::floor(low[k] / cell));
       hi[k] = int(std::floor(high[k] / cell));
     }
   };
 
-  // Bucket table: a counting sort of (cell hash -> segment) entries into CSR arrays.
+  // Bucket table: a counting sort of (cell hash -> piece) entries into CSR arrays.
   size_t entry_count = 0;
 #pragma omp parallel for reduction(+ : entry_count)
-  for (int64_t i = 0; i < int64_t(segment_count); ++i) {
+  for (int64_t q = 0; q < int64_t(piece_count); ++q) {
     Eigen::Vector3i lo, hi;
-    cell_range(size_t(i), lo, hi);
+    cell_range(size_t(q), lo, hi);
     entry_count += size_t((hi - lo + Eigen::Vector3i::Ones()).prod());
   }
   size_t bucket_count = 1;
@@ -153,9 +171,9 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
       for (size_t b = 0; b < bucket_count; ++b) bucket_offsets[b + 1] += bucket_offsets[b];
       fill.assign(bucket_offsets.begin(), bucket_offsets.end() - 1);
     }
-    for (size_t i = 0; i < segment_count; ++i) {
+    for (size_t q = 0; q < piece_count; ++q) {
       Eigen::Vector3i lo, hi;
-      cell_range(i, lo, hi);
+      cell_range(q, lo, hi);
       for (int x = lo.x(); x <= hi.x(); ++x)
         for (int y = lo.y(); y <= hi.y(); ++y)
           for (int z = lo.z(); z <= hi.z(); ++z) {
@@ -163,41 +181,44 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
             if (pass == 0)
               ++bucket_offsets[b + 1];
             else
-              entries[fill[b]++] = uint32_t(i);
+              entries[fill[b]++] = uint32_t(q);
           }
     }
   }
 
-  // Compare segments sharing a bucket. A pair is tested only in the bucket of the cell holding the
+  // Compare pieces sharing a bucket. A pair is tested only in the bucket of the cell holding the
   // lowest corner of the overlap of their grown boxes, so it is tested once whatever the number of
-  // cells they share (and hash collisions only add cheap rejections).
+  // cells they share (and hash collisions only add cheap rejections). The distance is that of the
+  // whole segments; a segment pair met through several pieces is counted once at the end.
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> found(static_cast<size_t>(omp_get_max_threads()));
   size_t examined = 0;
 #pragma omp parallel reduction(+ : examined)
   {
     auto &mine = found[size_t(omp_get_thread_num())];
     std::vector<uint32_t> members;
+    std::vector<Vector3f> lows, highs;
 #pragma omp for schedule(dynamic, 1024)
     for (int64_t b = 0; b < int64_t(bucket_count); ++b) {
       members.assign(entries.begin() + bucket_offsets[size_t(b)], entries.begin() + bucket_offsets[size_t(b) + 1]);
       if (members.size() < 2) continue;
       std::sort(members.begin(), members.end());
       members.erase(std::unique(members.begin(), members.end()), members.end());
+      lows.resize(members.size());
+      highs.resize(members.size());
+      for (size_t u = 0; u < members.size(); ++u) piece_box(members[u], lows[u], highs[u]);
       for (size_t u = 0; u < members.size(); ++u) {
-        const uint32_t i = members[u];
-        const Vector3f &a0 = strands.positions[segment_start[i]], &a1 = strands.positions[segment_start[i] + 1];
-        const Vector3f a_low = a0.cwiseMin(a1).array() - half_tol, a_high = a0.cwiseMax(a1).array() + half_tol;
+        const uint32_t i = piece_segment[members[u]];
         for (size_t w = u + 1; w < members.size(); ++w) {
-          const uint32_t j = members[w];
+          const uint32_t j = piece_segment[members[w]];
           if (segment_strand[i] == segment_strand[j]) continue;
           ++examined;
-          const Vector3f &b0 = strands.positions[segment_start[j]], &b1 = strands.positions[segment_start[j] + 1];
-          const Vector3f b_low = b0.cwiseMin(b1).array() - half_tol, b_high = b0.cwiseMax(b1).array() + half_tol;
-          if ((a_low.array() > b_high.array()).any() || (b_low.array() > a_high.array()).any()) continue;
-          const Vector3f corner = a_low.cwiseMax(b_low);
+          if ((lows[u].array() > highs[w].array()).any() || (lows[w].array() > highs[u].array()).any()) continue;
+          const Vector3f corner = lows[u].cwiseMax(lows[w]);
           const uint64_t owner = cell_hash(int(std::floor(corner.x() / cell)), int(std::floor(corner.y() / cell)),
                                            int(std::floor(corner.z() / cell))) & mask;
           if (owner != uint64_t(b)) continue;
+          const Vector3f &a0 = strands.positions[segment_start[i]], &a1 = strands.positions[segment_start[i] + 1];
+          const Vector3f &b0 = strands.positions[segment_start[j]], &b1 = strands.positions[segment_start[j] + 1];
           if (segment_distance_squared(a0, a1, b0, b1) > tolerance * tolerance) continue;
           const uint32_t sa = segment_strand[i], sb = segment_strand[j];
           const bool at_root = segment_start[i] == strands.offsets[sa] || segment_start[j] == strands.offsets[sb];

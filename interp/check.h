@@ -69,14 +69,18 @@ struct CrossingCount {
   size_t segment_pairs_examined = 0;
 };
 
-/// Points inside the skin (see CheckOptions::skin_margin). r_examples gets up to max_examples ids.
+/// Points inside the skin (see CheckOptions::skin_margin). Along a strand, a point that cannot have
+/// come within the margin since the last queried point (its travel is less than that point's
+/// distance to the skin minus the margin) is outside without a query: a strand gets inside only
+/// through the skin. r_examples gets up to max_examples strand ids.
 size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, float skin_margin, size_t max_examples,
                            std::vector<uint64_t> &r_examples);
 
-/// Crossing strand pairs: segments are binned in a uniform hash grid (cell = the mean segment
-/// length, at least twice the tolerance) by their bounding boxes grown by tolerance / 2, and only
-/// segments sharing a cell are compared, each pair once (in the cell holding the lowest corner of
-/// the overlap of their boxes). Cost grows with the number of segments times the local density.
+/// Crossing strand pairs: segments are cut into pieces no longer than a cell and binned in a uniform
+/// hash grid (cell = a third of the mean segment length, at least twice the tolerance) by their
+/// bounding boxes grown by tolerance / 2; only pieces sharing a cell are compared, each pair once
+/// (in the cell holding the lowest corner of the overlap of their boxes). Cost grows with the number
+/// of segments times the local density, never with all pairs.
 CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t max_examples);
 
 /// (root, guide) slots of `binding` with a non-zero weight whose guide lies in another hard zone than

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <span>
 #include <string>
 
@@ -242,6 +243,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const InterpolationSettings &settings = binding.settings;
   const int k = binding.k;
   const float scale = mesh_scale(mesh);
+  std::unique_ptr<SkinGrid> skin_grid;
+  if (settings.method == InterpolationSettings::Method::streamline) skin_grid = std::make_unique<SkinGrid>(mesh, query);
 
   r_strands.resize_uniform(roots.size(), n, options.with_widths);
   r_strands.ids = roots.ids;
@@ -325,8 +328,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       const float guide_length = frame.segment_arcs[size_t(last)] + frame.segment_lengths[size_t(last)];
       slots[s].arc_scale = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
     }
-    SkinGuard guard(query, settings.skin_margin, scale);
-    guard.start(root_frame.origin);
+    SkinGuard guard(query, settings.skin_margin, scale, skin_grid.get());
+    guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
     // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
     // keeps its length, and check again.
     auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {

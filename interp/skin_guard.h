@@ -6,45 +6,68 @@
 #include <algorithm>
 
 #include "groom/mesh_query.h"
+#include "interp/skin_grid.h"
 
 namespace plume::interp {
 
 /// The signed distance to a closed surface is 1-Lipschitz: sd(p) >= sd(q) - |p - q|. Knowing it at
 /// the last queried point q, a point p with sd(q) - |p - q| >= margin is certainly outside by the
-/// margin and needs no query. A strand rising from the skin is queried about log2(#points) times.
+/// margin and needs no query. A strand rising from the skin is queried about log2(#points) times;
+/// queries start from the last closest triangle (SkinGrid), so a strand lying along the skin is cheap,
+/// and points far from every triangle of the grid are cleared without a query.
 class SkinGuard {
  public:
   /// `scale`: a length of the scene (the mesh's size) for the absolute push tolerance.
-  SkinGuard(const MeshQuery &query, float margin, float scale)
-      : query_(query), margin_(margin), overshoot_(1e-6f * scale + 1e-4f * std::max(margin, 0.0f)) {}
+  /// `grid` (may be null: whole-mesh queries only) must be built on the query's mesh.
+  SkinGuard(const MeshQuery &query, float margin, float scale, const SkinGrid *grid = nullptr)
+      : query_(query), grid_(grid), margin_(margin), overshoot_(1e-6f * scale + 1e-4f * std::max(margin, 0.0f)) {}
 
   /// Starts a strand at a point known to be on (or above) the skin.
-  void start(const Eigen::Vector3f &on_skin) {
+  void start(const Eigen::Vector3f &on_skin, int triangle = -1) {
     known_point_ = on_skin;
     known_distance_ = 0.0f;
+    hint_ = triangle;
   }
   /// Starts a strand at any point (one query), without moving it.
   void start_anywhere(const Eigen::Vector3f &p) {
+    SurfacePoint closest;
     known_point_ = p;
-    known_distance_ = query_.signed_distance(p);
+    known_distance_ = query_.signed_distance(p, &closest);
+    hint_ = closest.triangle;
   }
 
   /// Moves `p` out along the surface normal if its signed distance is below the margin (a few
   /// iterations for concave places, where one move along the normal falls short).
   void keep_out(Eigen::Vector3f &p) {
-    if (known_distance_ - (p - known_point_).norm() >= margin_) return;
+    const float moved = (p - known_point_).norm();
+    if (known_distance_ - moved >= margin_) return;
+    // Far from every triangle (grid bound) and no way to have crossed the skin since the last known
+    // outside point: along q -> p the distance stays above (sd(q) + lower - moved) / 2 > 0.
+    const float lower = grid_ ? grid_->distance_lower_bound(p) : 0.0f;
+    if (lower >= margin_ && known_distance_ > 0.0f && known_distance_ + lower > moved) {
+      known_point_ = p;
+      known_distance_ = lower;
+      return;
+    }
     SurfacePoint closest;
-    float distance = query_.signed_distance(p, &closest);
+    float distance = distance_to_skin(p, hint_, closest);
     for (int iteration = 0; iteration < 4 && distance < margin_; ++iteration) {
       p += (margin_ - distance + overshoot_) * surface_normal(query_.mesh(), closest);
-      distance = query_.signed_distance(p, &closest);
+      distance = distance_to_skin(p, closest.triangle, closest);
     }
+    hint_ = closest.triangle;
     known_point_ = p;
     known_distance_ = distance;
   }
 
  private:
   const MeshQuery &query_;
+  float distance_to_skin(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
+    return grid_ ? grid_->signed_distance(p, hint, r_closest) : query_.signed_distance(p, &r_closest);
+  }
+
+  const SkinGrid *grid_;
+  int hint_ = -1;  // the last closest triangle: bounds the next search
   float margin_;
   float overshoot_;
   Eigen::Vector3f known_point_ = Eigen::Vector3f::Zero();

@@ -1,0 +1,175 @@
+#include "interp/skin_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace plume::interp {
+
+namespace {
+
+/// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
+/// Detection, 5.1.5).
+Eigen::Vector3f closest_on_triangle(const Eigen::Vector3f &p, const Eigen::Vector3f &a, const Eigen::Vector3f &b,
+                                    const Eigen::Vector3f &c) {
+  const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return {1.0f, 0.0f, 0.0f};
+  const Eigen::Vector3f bp = p - b;
+  const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0f && d4 <= d3) return {0.0f, 1.0f, 0.0f};
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
+    const float v = d1 / (d1 - d3);
+    return {1.0f - v, v, 0.0f};
+  }
+  const Eigen::Vector3f cp = p - c;
+  const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0f && d5 <= d6) return {0.0f, 0.0f, 1.0f};
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
+    const float w = d2 / (d2 - d6);
+    return {1.0f - w, 0.0f, w};
+  }
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
+    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0.0f, 1.0f - w, w};
+  }
+  const float denom = 1.0f / (va + vb + vc);
+  const float v = vb * denom, w = vc * denom;
+  return {1.0f - v - w, v, w};
+}
+
+}  // namespace
+
+SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), query_(query) {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  double edge_sum = 0.0;
+  size_t used = 0;
+  for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+    if (!(mesh.triangle_area(f) > 0.0)) continue;
+    const Eigen::Vector3i &t = mesh.triangles[f];
+    for (int i = 0; i < 3; ++i) {
+      lo = lo.cwiseMin(mesh.positions[size_t(t[i])]);
+      hi = hi.cwiseMax(mesh.positions[size_t(t[i])]);
+      edge_sum += (mesh.positions[size_t(t[i])] - mesh.positions[size_t(t[(i + 1) % 3])]).norm();
+    }
+    ++used;
+  }
+  dims_ = Eigen::Vector3i::Ones();
+  origin_ = lo;
+  if (used == 0) return;
+  // Cells of about two mean edges, at most 128 per axis.
+  const Eigen::Vector3f extent = (hi - lo).cwiseMax(1e-12f);
+  cell_size_ = std::max({float(2.0 * edge_sum / double(3 * used)), extent.maxCoeff() / 128.0f, 1e-12f});
+  for (int a = 0; a < 3; ++a) dims_[a] = std::clamp(int(std::ceil(extent[a] / cell_size_)), 1, 128);
+  const size_t cell_count = size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z());
+  auto cell_range = [&](size_t f, Eigen::Vector3i &r_lo, Eigen::Vector3i &r_hi) {
+    const Eigen::Vector3i &t = mesh.triangles[f];
+    Eigen::Vector3f tlo = mesh.positions[size_t(t[0])], thi = tlo;
+    for (int i = 1; i < 3; ++i) {
+      tlo = tlo.cwiseMin(mesh.positions[size_t(t[i])]);
+      thi = thi.cwiseMax(mesh.positions[size_t(t[i])]);
+    }
+    for (int a = 0; a < 3; ++a) {
+      r_lo[a] = std::clamp(int(std::floor((tlo[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+      r_hi[a] = std::clamp(int(std::floor((thi[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+    }
+  };
+  auto cell_index = [&](int x, int y, int z) { return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x); };
+  cell_offsets_.assign(cell_count + 1, 0);
+  Eigen::Vector3i clo, chi;
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int32_t> fill;
+    if (pass == 1) {
+      for (size_t c = 0; c < cell_count; ++c) cell_offsets_[c + 1] += cell_offsets_[c];
+      cell_triangles_.resize(size_t(cell_offsets_[cell_count]));
+      fill.assign(cell_offsets_.begin(), cell_offsets_.end() - 1);
+    }
+    for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+      if (!(mesh.triangle_area(f) > 0.0)) continue;
+      cell_range(f, clo, chi);
+      for (int z = clo.z(); z <= chi.z(); ++z)
+        for (int y = clo.y(); y <= chi.y(); ++y)
+          for (int x = clo.x(); x <= chi.x(); ++x) {
+            const size_t c = cell_index(x, y, z);
+            if (pass == 0)
+              ++cell_offsets_[c + 1];
+            else
+              cell_triangles_[size_t(fill[c]++)] = int32_t(f);
+          }
+    }
+  }
+  // Chessboard distance transform: two raster passes over the 26-neighbourhood are exact for it.
+  cell_distance_.assign(cell_count, 255);
+  for (size_t c = 0; c < cell_count; ++c)
+    if (cell_offsets_[c + 1] > cell_offsets_[c]) cell_distance_[c] = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    const int step = pass == 0 ? 1 : -1;
+    for (int zi = 0; zi < dims_.z(); ++zi)
+      for (int yi = 0; yi < dims_.y(); ++yi)
+        for (int xi = 0; xi < dims_.x(); ++xi) {
+          const int z = pass == 0 ? zi : dims_.z() - 1 - zi, y = pass == 0 ? yi : dims_.y() - 1 - yi,
+                    x = pass == 0 ? xi : dims_.x() - 1 - xi;
+          int best = cell_distance_[cell_index(x, y, z)];
+          // The 13 neighbours already visited in this raster order.
+          for (int dz = -1; dz <= 0; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
+                const int nx = x + step * dx, ny = y + step * dy, nz = z + step * dz;
+                if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_.x() || ny >= dims_.y() || nz >= dims_.z()) continue;
+                best = std::min(best, int(cell_distance_[cell_index(nx, ny, nz)]) + 1);
+              }
+          cell_distance_[cell_index(x, y, z)] = uint8_t(std::min(best, 255));
+        }
+  }
+}
+
+float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {
+  if (cell_distance_.empty()) return 0.0f;
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+  const int k = cell_distance_[(size_t(c.z()) * size_t(dims_.y()) + size_t(c.y())) * size_t(dims_.x()) + size_t(c.x())];
+  return float(std::max(k - 1, 0)) * cell_size_;
+}
+
+float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
+  if (hint < 0 || cell_triangles_.empty()) return query_.signed_distance(p, &r_closest);
+  auto vertex = [&](int f, int i) -> const Eigen::Vector3f & { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; };
+  Eigen::Vector3f best_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
+  int best = hint;
+  float best_sq = (p - (best_bary[0] * vertex(hint, 0) + best_bary[1] * vertex(hint, 1) + best_bary[2] * vertex(hint, 2)))
+                      .squaredNorm();
+  const float radius = std::sqrt(best_sq);
+  Eigen::Vector3i lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::clamp(int(std::floor((p[a] - radius - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+    hi[a] = std::clamp(int(std::floor((p[a] + radius - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+  }
+  const Eigen::Vector3i span = hi - lo + Eigen::Vector3i::Ones();
+  if (span.x() * span.y() * span.z() > 27) return query_.signed_distance(p, &r_closest);
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) {
+        const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+        for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
+          const int f = cell_triangles_[size_t(i)];
+          const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
+          const float distance_sq =
+              (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
+          if (distance_sq < best_sq || (distance_sq == best_sq && f < best)) {
+            best_sq = distance_sq;
+            best = f;
+            best_bary = bary;
+          }
+        }
+      }
+  r_closest.triangle = best;
+  r_closest.bary = best_bary;
+  const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
+  const float distance = std::sqrt(best_sq);
+  return offset.dot(surface_normal(mesh_, r_closest)) < 0.0f ? -distance : distance;
+}
+
+}  // namespace plume::interp

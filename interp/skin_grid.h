@@ -1,0 +1,42 @@
+// A uniform grid of the emitter's triangles for exact closest-point queries near a known triangle.
+// Internal to interp/: strands walk along the skin in small steps, so the previous closest triangle
+// bounds the search to a few cells, far cheaper than a query of the whole tree.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "groom/mesh.h"
+#include "groom/mesh_query.h"
+
+namespace plume::interp {
+
+class SkinGrid {
+ public:
+  /// Built per pose; `query` (on the same mesh) answers what the grid cannot answer cheaply.
+  SkinGrid(const Mesh &mesh, const MeshQuery &query);
+
+  /// Signed distance to the surface as MeshQuery::signed_distance defines it (sign of
+  /// (p - closest) . interpolated normal). `hint` is a triangle near p (or -1): the true closest
+  /// triangle is within |p - closest point of hint|, so only the cells of that ball are searched;
+  /// when they are too many, the whole-mesh query is used.
+  float signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const;
+  /// A lower bound of the (unsigned) distance from p to the surface, from the chessboard distance
+  /// of p's cell to the nearest cell holding a triangle: (k - 1) * cell size. No search.
+  float distance_lower_bound(const Eigen::Vector3f &p) const;
+
+ private:
+  const Mesh &mesh_;
+  const MeshQuery &query_;
+  Eigen::Vector3f origin_;
+  float cell_size_ = 1.0f;
+  Eigen::Vector3i dims_;
+  /// CSR: triangles of cell c are cell_triangles_[cell_offsets_[c] .. cell_offsets_[c + 1]).
+  std::vector<int32_t> cell_offsets_;
+  std::vector<int32_t> cell_triangles_;
+  /// Per cell: chessboard distance (in cells, capped at 255) to the nearest cell holding a triangle.
+  std::vector<uint8_t> cell_distance_;
+};
+
+}  // namespace plume::interp

@@ -40,8 +40,8 @@ EdgeCut cut_from_edges(const Mesh &mesh, const MeshTopology &topology, std::span
 /// fan of triangles around it not separated by cut edges), so a path can go along the cut and
 /// around its ends but never across it. Links are the mesh edges and, for every two triangles that
 /// share an uncut edge and form a convex quad, the straight line between the opposite corners in
-/// the unfolded quad: this halves the metrication error of a plain edge graph (which can
-/// overestimate by up to ~8% on a regular grid) at the cost of one more link per edge.
+/// the unfolded quad: more directions than the edges alone, so less of the edge graph's
+/// overestimate (metrication error), at the cost of one more link per edge.
 class GeodesicGraph {
  public:
   GeodesicGraph(const Mesh &mesh, const MeshTopology &topology, const EdgeCut &cut = {});

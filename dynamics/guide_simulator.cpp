@@ -34,6 +34,8 @@ constexpr int kCollisionRounds = 2;
 // A joint in contact keeps this fraction of its mobility along the contact normal during the
 // length projection, so that the system stays non-singular when a segment points into a shape.
 constexpr double kContactNormalMobility = 0.01;
+// Fewer guides than this are stepped on one thread: a parallel region costs more than they do.
+constexpr int64_t kParallelGuides = 128;
 
 Vector3d unit_or(const Vector3d &d, const Vector3d &fallback) {
   const double len = d.norm();
@@ -531,7 +533,7 @@ void GuideSimulator::reset(const Mesh &posed_mesh) {
     st.root_to[g] = FramePose::from(surface_frame(posed_mesh, st.roots[g]));
     st.root_from[g] = st.root_to[g];
   }
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) if (st.guide_count() >= kParallelGuides)
   for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) st.reset_guide(size_t(g));
   st.mesh_to = posed_mesh;
   st.mesh_sub = posed_mesh;
@@ -585,7 +587,7 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
       }
     }
     const double time_end = time_ + (s + 1) * h;
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) if (st.guide_count() >= kParallelGuides)
     for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) st.substep_guide(size_t(g), s0, s1, h, time_end);
     ++work_.substeps;
     for (size_t g = 0; g < st.guide_count(); ++g) {

@@ -136,7 +136,7 @@ Eigen::Vector3f shade_hair(const Eigen::Vector3f &tangent, const Eigen::Vector3f
   const float spec_wide = std::pow(sin_between(tangent, half_key), 12.0f);
   const Eigen::Vector3f diffuse = base * (0.06f + 0.9f * key + 0.2f * fill);
   const Eigen::Vector3f specular =
-      0.2f * spec * Eigen::Vector3f(1.0f, 0.93f, 0.85f) + 0.2f * spec_wide * base.cwiseSqrt().cwiseProduct(base);
+      0.07f * spec * Eigen::Vector3f(1.0f, 0.93f, 0.85f) + 0.5f * spec_wide * base;
   return occlusion * (diffuse + specular);
 }
 

@@ -32,7 +32,7 @@ PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3
 struct PreviewStyle {
   int size = 800;        // square image, pixels
   int supersample = 3;   // strands and edges are drawn at size * supersample, then box-filtered
-  int strand_brush = 2;  // strand width in supersampled pixels
+  int strand_brush = 3;  // strand width in supersampled pixels
   Eigen::Vector3f hair_color = Eigen::Vector3f(0.16f, 0.055f, 0.022f);
   Eigen::Vector3f guide_color = Eigen::Vector3f(0.1f, 0.85f, 1.0f);
   Eigen::Vector3f skin_color = Eigen::Vector3f(0.62f, 0.42f, 0.33f);

@@ -262,6 +262,8 @@ int GuideSimulator::State::project_lengths(int64_t begin, int64_t n) {
     const Vector3d &normal = contact_normal[begin + j];
     return inv_mass[begin + j] * (u - (1.0 - kContactNormalMobility) * normal.dot(u) * normal);
   };
+  bool contacts = false;
+  for (int64_t j = 2; j < n; ++j) contacts = contacts || contact_normal[begin + j].squaredNorm() > 0.0;
   int solves = 0;
   for (int iteration = 0;; ++iteration) {
     double worst = 0.0;
@@ -276,8 +278,13 @@ int GuideSimulator::State::project_lengths(int64_t begin, int64_t n) {
     if (iteration == kMaxProjectionIterations) break;
     for (int64_t i = 2; i < n; ++i) {
       const int64_t r = i - 2;
-      di[r] = e[i].dot(apply_w(i, e[i])) + (i > 2 ? e[i].dot(apply_w(i - 1, e[i])) : 0.0);
-      up[r] = i + 1 < n ? -e[i].dot(apply_w(i, e[i + 1])) : 0.0;
+      if (contacts) {
+        di[r] = e[i].dot(apply_w(i, e[i])) + (i > 2 ? e[i].dot(apply_w(i - 1, e[i])) : 0.0);
+        up[r] = i + 1 < n ? -e[i].dot(apply_w(i, e[i + 1])) : 0.0;
+      } else {  // W_j = w_j I: the plain matrix of project_velocities
+        di[r] = inv_mass[begin + i] + (i > 2 ? inv_mass[begin + i - 1] : 0.0);
+        up[r] = i + 1 < n ? -inv_mass[begin + i] * e[i].dot(e[i + 1]) : 0.0;
+      }
       lo[r] = i > 2 ? up[r - 1] : 0.0;
     }
     solve_tridiagonal({lo, size_t(rows)}, {di, size_t(rows)}, {up, size_t(rows)}, {rhs, size_t(rows)});
@@ -285,7 +292,7 @@ int GuideSimulator::State::project_lengths(int64_t begin, int64_t n) {
     for (int64_t j = 2; j < n; ++j) {
       Vector3d impulse = rhs[j - 2] * e[j];
       if (j + 1 < n) impulse -= rhs[j - 1] * e[j + 1];
-      const Vector3d step = apply_w(j, impulse);
+      const Vector3d step = contacts ? apply_w(j, impulse) : Vector3d(inv_mass[begin + j] * impulse);
       x[begin + j] += step;
       correction[begin + j] += step;
     }

@@ -10,7 +10,6 @@
 
 #include "groom/error.h"
 #include "interp/noise.h"
-#include "interp/skin_guard.h"
 
 namespace plume::interp {
 
@@ -525,18 +524,31 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     }
   }
   // Grown strands are at least skin_margin outside the skin (growth pushes them out), and the signed
-  // distance is 1-Lipschitz, so a point the stack moved by less than the margin is still outside. Only
-  // the others are pushed out, with the skin guard growth and push_out_of_skin() use (which skips
-  // queries by the same bound along the strand). This keeps the stack's skin pass to the points it moved.
-  const float scale = mesh_scale(posed_mesh);
+  // distance is 1-Lipschitz, sd(p') >= sd(p) - |p' - p|: a point the stack moved by less than the margin
+  // is still outside. The others are checked along the strand with the same bound from the last queried
+  // point (as growth's push-out does), and pushed out along the normal to the margin when closer.
+  const float margin = skin_margin;
+  const float overshoot = 1e-4f * std::max(margin, 0.0f);
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
     const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
     const Eigen::Vector3f *grown = grown_positions.data() + r_strands.offsets[i];
-    SkinGuard guard(posed_query, skin_margin, scale);
-    guard.start(pts[0]);  // the root never moves and lies on the skin
-    for (size_t j = 1; j < pts.size(); ++j)
-      if ((pts[j] - grown[j]).squaredNorm() >= skin_margin * skin_margin) guard.keep_out(pts[j]);
+    Eigen::Vector3f known_point = pts[0];  // the root never moves and lies on the skin
+    float known_distance = 0.0f;
+    for (size_t j = 1; j < pts.size(); ++j) {
+      Eigen::Vector3f &p = pts[j];
+      if ((p - grown[j]).squaredNorm() < margin * margin) continue;
+      if (known_distance - (p - known_point).norm() >= margin) continue;
+      SurfacePoint closest;
+      float distance = posed_query.signed_distance(p, &closest);
+      // A few steps for concave places, where one move along the normal falls short.
+      for (int step = 0; step < 4 && distance < margin; ++step) {
+        p += (margin - distance + overshoot) * surface_normal(posed_mesh, closest);
+        distance = posed_query.signed_distance(p, &closest);
+      }
+      known_point = p;
+      known_distance = distance;
+    }
   }
 }
 

@@ -204,6 +204,10 @@ TEST_CASE("with dynamics, chunks regrown from the guide cache match a full run",
     REQUIRE(!full.empty());
     CHECK(full == read_text(scratch / ("chunk" + name)));
   }
+  // Without a cache, a frame regrown alone is simulated from the groom's first frame: same bytes.
+  REQUIRE(run_plume("regrow " + quoted(groom) + " --frames 3 --out " + quoted(scratch / "alone.####.usda"), scratch)
+              .exit_code == 0);
+  CHECK(read_text(scratch / "alone.0003.usda") == read_text(scratch / "full.0003.usda"));
   // The simulated guides move differently from the skin-carried ones.
   REQUIRE(run_plume("regrow " + quoted(write_sintel_groom(scratch, "still", "output: {frames: 1-4}\n")) +
                         " --frames 4 --out " + quoted(scratch / "still.####.usda"),

@@ -278,3 +278,29 @@ TEST_CASE("on a terminal regrow shows frames/s and an ETA on stderr", "[cli]") {
   CHECK(shown.find("ETA") != std::string::npos);
   CHECK(fs::exists(scratch / "h.0003.hair"));
 }
+
+TEST_CASE("regrow writes each root's UV as primvars:st when the emitter has UVs", "[cli]") {
+  ScratchDir scratch("uvs");
+  // A unit square in the XZ plane with UVs = (x, z), and two upright guides on it.
+  std::ofstream(scratch / "plane.obj") << "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\n"
+                                          "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                          "f 1/1 4/4 3/3 2/2\n";
+  std::ofstream(scratch / "guides.obj") << "v 0.2 0 0.2\nv 0.2 0.5 0.2\nv 0.2 1 0.2\nl 1 2\nl 2 3\n"
+                                           "v 0.8 0 0.8\nv 0.8 0.5 0.8\nv 0.8 1 0.8\nl 4 5\nl 5 6\n";
+  std::ofstream(scratch / "plane.groom.yaml") << "plume: 1\nemitter: {mesh: plane.obj}\nguides: {file: guides.obj}\n"
+                                                 "roots: {count: 5}\nstrands: {points: 4}\n";
+  const RunResult run = run_plume("regrow " + quoted(scratch / "plane.groom.yaml") + " --frames 1 --out " +
+                                      quoted(scratch / "h.####.usda"),
+                                  scratch);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const std::string usda = read_text(scratch / "h.0001.usda");
+  const size_t st = usda.find("primvars:st");
+  REQUIRE(st != std::string::npos);
+  // Five (u, v) pairs, each inside the unit square (the roots are on it).
+  const size_t open = usda.find('[', st), close = usda.find(']', st);
+  REQUIRE(open != std::string::npos);
+  const std::string values = usda.substr(open + 1, close - open - 1);
+  CHECK(std::count(values.begin(), values.end(), '(') == 5);
+  CHECK(values.find('-') == std::string::npos);
+}

@@ -24,6 +24,9 @@ void write_strands(const std::string &path, const StrandSet &strands, const Stra
   if (!options.root_uvs.empty() && options.root_uvs.size() != strands.strand_count())
     throw InternalError("write_strands: root_uvs must be empty or one per strand (" +
                         std::to_string(strands.strand_count()) + "), got " + std::to_string(options.root_uvs.size()));
+  if (!options.group_ids.empty() && options.group_ids.size() != strands.strand_count())
+    throw InternalError("write_strands: group_ids must be empty or one per strand (" +
+                        std::to_string(strands.strand_count()) + "), got " + std::to_string(options.group_ids.size()));
   for (size_t s = 0; s < strands.strand_count(); ++s)
     if (strands.points_in(s) < 2)
       throw InputError(FileLoc{path}, "strand " + std::to_string(s) + ": expected at least 2 points, got " +

@@ -18,7 +18,8 @@ namespace plume::io {
 ///   either `edge` vertex1/vertex2 chained into strands, or a per-vertex `strand`/`curve` id
 ///   (consecutive vertices with the same id form one strand); ids 0..n-1.
 /// - `.usda`: the BasisCurves subset write_strands produces: curveVertexCounts, points, widths
-///   (vertex or constant), primvars:groom_id as ids (else 0..n-1).
+///   (constant, uniform or vertex); ids from primvars:plume_id, else primvars:groom_id (files from
+///   other tools), else 0..n-1.
 /// - `.obj`: `v` lines and `l` lines; consecutive `l` lines that share an end point are chained
 ///   into one strand; ids 0..n-1.
 /// Every strand has at least 2 points. Throws InputError with `file:line` (text) or
@@ -28,6 +29,10 @@ StrandSet read_strands(const std::string &path);
 struct StrandWriteOptions {
   /// Empty, or one (u, v) per strand: the root's UV on the emitter, written as `primvars:st` (.usda).
   std::vector<Eigen::Vector2f> root_uvs;
+  /// Empty (every strand in group 0), or one hair group id per strand, written as
+  /// `primvars:groom_id` (.usda): Unreal's groom importer makes one hair group of the curves that
+  /// share a groom_id, so it cannot hold the per-strand stable ids (those go in `primvars:plume_id`).
+  std::vector<int32_t> group_ids;
   /// Diameter written when the set has no widths (scene units).
   float constant_width = 0.01f;
   /// USD layer metadata `metersPerUnit` (0.01: scene units are centimetres).

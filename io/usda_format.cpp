@@ -1,7 +1,11 @@
 // Strands as USD BasisCurves in the text `.usda` encoding, written exactly as ../shared/FORMATS.md
-// lays out (linear curves, widths, GroomAPI, primvars:groom_id, primvars:st, extent), and read back
-// for the same subset: the first BasisCurves prim's curveVertexCounts, points (a default value or
-// the first time sample), widths (constant, uniform or vertex) and primvars:groom_id.
+// lays out (linear curves, widths, GroomAPI, primvars:groom_id, primvars:plume_id, primvars:st,
+// extent), and read back for the same subset: the BasisCurves prim's curveVertexCounts, points (a
+// default value or the first time sample), widths (constant, uniform or vertex) and the strand ids.
+//
+// Two per-curve integer primvars, because Unreal's groom importer reads `groom_id` as the hair
+// group of a curve (curves sharing one form a group): `groom_id` holds the group ids, and the
+// 64-bit stable strand ids live in `int64[] primvars:plume_id`.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -148,7 +152,9 @@ bool is_punct(const Token &token, char c) { return token.kind == TokenKind::Punc
 
 /// An attribute value of the curves prim, with where it was declared.
 struct ArrayValue {
-  std::vector<double> values;  // flattened tuples
+  bool integer = false;          // parsed exactly into `integers` (64-bit ids do not fit a double)
+  std::vector<double> values;    // flattened tuples, when not integer
+  std::vector<int64_t> integers;
   Token at;
   bool present = false;
   std::string interpolation;  // from the attribute's metadata, "" when not given
@@ -244,6 +250,7 @@ class UsdaReader {
       if (name.text == "curveVertexCounts") target = &counts_;
       else if (name.text == "points" || name.text == "points.timeSamples") target = &points_, tuple = 3;
       else if (name.text == "widths") target = &widths_;
+      else if (name.text == "primvars:plume_id") target = &plume_ids_;
       else if (name.text == "primvars:groom_id") target = &groom_ids_;
     }
     if (target && target->present) lexer.fail(name, std::string(name.text) + ": expected one value, found a second");
@@ -312,6 +319,20 @@ class UsdaReader {
     return value;
   }
 
+  int64_t parse_integer(UsdaLexer &lexer, std::string_view what) {
+    const Token token = lexer.next();
+    if (token.kind != TokenKind::Number) lexer.fail(token, std::string(what) + ": expected an integer, got " + UsdaLexer::describe(token));
+    std::string_view digits = token.text;
+    if (digits.front() == '+') digits.remove_prefix(1);
+    int64_t value = 0;
+    const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (result.ec == std::errc::result_out_of_range)
+      lexer.fail(token, std::string(what) + ": expected a 64-bit integer, got " + quoted(token.text));
+    if (result.ec != std::errc() || result.ptr != digits.data() + digits.size())
+      lexer.fail(token, std::string(what) + ": expected an integer, got " + quoted(token.text));
+    return value;
+  }
+
   /// [ v, v, ... ] or [ (a, b, c), ... ] with `tuple` numbers per element.
   void parse_array(UsdaLexer &lexer, ArrayValue &target, int tuple, std::string_view name) {
     const std::string_view tuple_detail = tuple == 3 ? ": a tuple of 3" : ": a tuple of 2";
@@ -324,6 +345,8 @@ class UsdaReader {
           target.values.push_back(parse_number(lexer, name));
         }
         lexer.expect_punct(')', name, tuple_detail);
+      } else if (target.integer) {
+        target.integers.push_back(parse_integer(lexer, name));
       } else {
         target.values.push_back(parse_number(lexer, name));
       }
@@ -401,14 +424,16 @@ class UsdaReader {
       }
     }
     strands.ids.resize(strand_num);
-    if (groom_ids_.present) {
-      if (groom_ids_.values.size() != strand_num)
-        fail(groom_ids_.at, "primvars:groom_id: expected one per curve (" + std::to_string(strand_num) + "), got " +
-                                std::to_string(groom_ids_.values.size()));
+    // Plume's own stable ids first; a file from another tool may carry its ids as groom_id only.
+    const ArrayValue *ids = plume_ids_.present ? &plume_ids_ : groom_ids_.present ? &groom_ids_ : nullptr;
+    if (ids) {
+      const std::string name(ids->at.text);
+      if (ids->integers.size() != strand_num)
+        fail(ids->at, name + ": expected one per curve (" + std::to_string(strand_num) + "), got " +
+                          std::to_string(ids->integers.size()));
       for (size_t s = 0; s < strand_num; ++s) {
-        const double id = groom_ids_.values[s];
-        if (id < 0 || id != std::floor(id) || id > 9007199254740992.0)
-          fail(groom_ids_.at, "primvars:groom_id[" + std::to_string(s) + "]: expected an integer >= 0, got " + std::to_string(id));
+        const int64_t id = ids->integers[s];
+        if (id < 0) fail(ids->at, name + "[" + std::to_string(s) + "]: expected an integer >= 0, got " + std::to_string(id));
         strands.ids[s] = uint64_t(id);
       }
     } else {
@@ -421,7 +446,8 @@ class UsdaReader {
   std::string text_;
   bool curves_found_ = false;
   Token curves_at_;
-  ArrayValue counts_, points_, widths_, groom_ids_;
+  ArrayValue counts_, points_, widths_;
+  ArrayValue plume_ids_{.integer = true}, groom_ids_{.integer = true};
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -456,12 +482,10 @@ StrandSet read_usda(const std::string &path) { return UsdaReader(path).read(); }
 void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options) {
   const size_t strand_num = strands.strand_count();
   const bool has_widths = !strands.widths.empty();
-  // USD `int` is 32 bits; stable ids beyond it need int64 to stay exact.
-  const bool ids_fit_int = std::all_of(strands.ids.begin(), strands.ids.end(),
-                                       [](uint64_t id) { return id <= uint64_t(std::numeric_limits<int32_t>::max()); });
+  // Stable ids are 64-bit ((face << 24) | j); USD has no unsigned 64-bit primvar, so int64.
   if (!std::all_of(strands.ids.begin(), strands.ids.end(),
                    [](uint64_t id) { return id <= uint64_t(std::numeric_limits<int64_t>::max()); }))
-    throw InputError(FileLoc{file.path()}, "primvars:groom_id: ids above 2^63-1 do not fit USD int64");
+    throw InputError(FileLoc{file.path()}, "primvars:plume_id: ids above 2^63-1 do not fit USD int64");
 
   Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();
   if (strands.point_count() > 0) {
@@ -561,10 +585,18 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   append_tuple(out, extent + 3, 3);
   out += options.time_code ? "],\n        }\n" : "]\n";
 
-  out += ids_fit_int ? "        int[] primvars:groom_id = [" : "        int64[] primvars:groom_id = [";
+  out += "        int[] primvars:groom_id = [";
   for (size_t s = 0; s < strand_num; ++s) {
     if (s > 0) out += ", ";
-    append_number(out, (unsigned long long)strands.ids[s]);
+    append_number(out, (long long)(options.group_ids.empty() ? 0 : options.group_ids[s]));
+    flush_if_full();
+  }
+  out += "] (\n            interpolation = \"uniform\"\n        )\n";
+
+  out += "        int64[] primvars:plume_id = [";
+  for (size_t s = 0; s < strand_num; ++s) {
+    if (s > 0) out += ", ";
+    append_number(out, (long long)strands.ids[s]);
     flush_if_full();
   }
   out += "] (\n            interpolation = \"uniform\"\n        )\n";

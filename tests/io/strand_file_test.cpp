@@ -73,12 +73,18 @@ TEST_CASE("writing then reading .hair, .ply, .usda and .obj gives back exactly t
       plume::io::write_strands(dir.file("s.obj"), sequential, {});
       check_same_strands(plume::io::read_strands(dir.file("s.obj")), sequential, false, true);
     }
-    SECTION(std::string(".usda with stable 64-bit ids") + (with_widths ? " and widths" : "")) {
+    SECTION(std::string(".usda with stable 64-bit ids and hair groups") + (with_widths ? " and widths" : "")) {
+      // Ids a double cannot hold exactly (2^53 + 1, 2^63 - 1) must still come back bit for bit.
+      StrandSet wide = stable;
+      wide.ids[0] = (uint64_t(1) << 53) + 1;
+      wide.ids[1] = uint64_t(std::numeric_limits<int64_t>::max());
       plume::io::StrandWriteOptions options;
       options.constant_width = 0.25f;
-      plume::io::write_strands(dir.file("s.usda"), stable, options);
+      // Group ids differ from the stable ids: the reader must take the ids from plume_id.
+      for (size_t s = 0; s < wide.strand_count(); ++s) options.group_ids.push_back(int32_t(s % 3));
+      plume::io::write_strands(dir.file("s.usda"), wide, options);
       const StrandSet read = plume::io::read_strands(dir.file("s.usda"));
-      check_same_strands(read, stable, with_widths, true);
+      check_same_strands(read, wide, with_widths, true);
       if (!with_widths) CHECK(read.widths == std::vector<float>(read.point_count(), 0.25f));
     }
     SECTION(std::string(".usda with a time code and root uvs") + (with_widths ? " and widths" : "")) {
@@ -100,6 +106,7 @@ TEST_CASE("the .usda writer lays out the file as FORMATS.md says", "[io]") {
   strands.append(b, 11, std::vector<float>{0.4f, 0.2f});
   plume::io::StrandWriteOptions options;
   options.root_uvs = {{0.25f, 0.75f}, {0.5f, 0.125f}};
+  options.group_ids = {3, 7};
   options.time_code = 12;
   options.fps = 30;
   options.meters_per_unit = 1;
@@ -117,12 +124,14 @@ TEST_CASE("the .usda writer lays out the file as FORMATS.md says", "[io]") {
            "float[] widths = [0.2, 0.1, 0.05, 0.4, 0.2] (\n            interpolation = \"vertex\"",
            // extent padded by half the largest width (0.4)
            "float3[] extent.timeSamples = {\n            12: [(-0.2, -0.2, -0.2), (1.2, 2.2, 0.7)],",
-           "int[] primvars:groom_id = [10, 11] (\n            interpolation = \"uniform\"",
+           // groom_id is the hair group (Unreal groups curves by it); the stable ids are always int64
+           "int[] primvars:groom_id = [3, 7] (\n            interpolation = \"uniform\"",
+           "int64[] primvars:plume_id = [10, 11] (\n            interpolation = \"uniform\"",
            "texCoord2f[] primvars:st = [(0.25, 0.75), (0.5, 0.125)] (\n            interpolation = \"uniform\""}) {
     INFO(expected);
     CHECK(text.find(expected) != std::string::npos);
   }
-  SECTION("without a time code or widths: plain points, constant width, default metersPerUnit, no time metadata") {
+  SECTION("without a time code, widths or groups: plain points, constant width, default metersPerUnit, no time metadata, group 0") {
     StrandSet plain = strands;
     plain.widths.clear();
     plume::io::StrandWriteOptions defaults;
@@ -136,6 +145,45 @@ TEST_CASE("the .usda writer lays out the file as FORMATS.md says", "[io]") {
     CHECK(plain_text.find("float[] widths = [0.5] (\n            interpolation = \"constant\"") != std::string::npos);
     CHECK(plain_text.find("float3[] extent = [(-0.25, -0.25, -0.25), (1.25, 2.25, 0.75)]") != std::string::npos);
     CHECK(plain_text.find("primvars:st") == std::string::npos);
+    CHECK(plain_text.find("int[] primvars:groom_id = [0, 0] (\n            interpolation = \"uniform\"") != std::string::npos);
+    CHECK(plain_text.find("int64[] primvars:plume_id = [10, 11] (\n            interpolation = \"uniform\"") != std::string::npos);
+  }
+  SECTION("group ids must be empty or one per strand") {
+    plume::io::StrandWriteOptions one_group;
+    one_group.group_ids = {1};
+    CHECK_THROWS_WITH(plume::io::write_strands(dir.file("groups.usda"), strands, one_group),
+                      Catch::Contains("group_ids must be empty or one per strand (2), got 1"));
+  }
+}
+
+TEST_CASE(".usda ids come from primvars:plume_id, else primvars:groom_id, else 0..n-1", "[io]") {
+  plume::test::ScratchDir dir("usda_ids");
+  const std::string head = "#usda 1.0\n\ndef BasisCurves \"hair\"\n{\n    int[] curveVertexCounts = [2, 2]\n"
+                           "    point3f[] points = [(0, 0, 0), (0, 1, 0), (1, 0, 0), (1, 1, 0)]\n";
+  const std::string tail = "}\n";
+  SECTION("a file from another tool with groom_id only") {
+    std::ofstream(dir.file("g.usda")) << head << "    int[] primvars:groom_id = [4, 9] (interpolation = \"uniform\")\n" << tail;
+    CHECK(plume::io::read_strands(dir.file("g.usda")).ids == std::vector<uint64_t>{4, 9});
+  }
+  SECTION("both: plume_id wins, wherever it appears") {
+    std::ofstream(dir.file("b.usda")) << head << "    int64[] primvars:plume_id = [+99857989967872, 5]\n"
+                                      << "    int[] primvars:groom_id = [0, 0]\n" << tail;
+    CHECK(plume::io::read_strands(dir.file("b.usda")).ids == std::vector<uint64_t>{99857989967872ull, 5});
+  }
+  SECTION("neither") {
+    std::ofstream(dir.file("n.usda")) << head << tail;
+    CHECK(plume::io::read_strands(dir.file("n.usda")).ids == std::vector<uint64_t>{0, 1});
+  }
+  SECTION("a plume_id per curve, integers >= 0") {
+    std::ofstream(dir.file("c.usda")) << head << "    int64[] primvars:plume_id = [7]\n" << tail;
+    CHECK_THROWS_WITH(plume::io::read_strands(dir.file("c.usda")),
+                      Catch::Contains("c.usda:7:") && Catch::Contains("primvars:plume_id: expected one per curve (2), got 1"));
+    std::ofstream(dir.file("f.usda")) << head << "    int64[] primvars:plume_id = [7, 1.5]\n" << tail;
+    CHECK_THROWS_WITH(plume::io::read_strands(dir.file("f.usda")),
+                      Catch::Contains("f.usda:7:") && Catch::Contains("primvars:plume_id: expected an integer, got \"1.5\""));
+    std::ofstream(dir.file("m.usda")) << head << "    int[] primvars:groom_id = [-1, 2]\n" << tail;
+    CHECK_THROWS_WITH(plume::io::read_strands(dir.file("m.usda")),
+                      Catch::Contains("primvars:groom_id[0]: expected an integer >= 0, got -1"));
   }
 }
 

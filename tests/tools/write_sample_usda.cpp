@@ -1,8 +1,8 @@
 // Writes the .usda files that the usd_external tests load with tinyusdz:
 //   write_sample_usda GUIDES.hair OUT_DIR
-// OUT_DIR/guides.usda: the guides as read, per-vertex widths, no time code.
-// OUT_DIR/animated.usda: 30 strands x 5 points at time code 12, constant width, root UVs and
-// stable ids beyond 32 bits (written as int64).
+// OUT_DIR/guides.usda: the guides as read, per-vertex widths, no time code, every strand in group 0.
+// OUT_DIR/animated.usda: 30 strands x 5 points at time code 12, constant width, root UVs, three
+// hair groups of 10 strands (groom_id) and stable ids beyond 32 bits (int64 plume_id).
 #include <cstdio>
 #include <string>
 
@@ -31,6 +31,7 @@ int main(int argc, char **argv) {
       for (int p = 0; p < 5; ++p) points.emplace_back(0.1f * float(s), 0.25f * float(p), 0.01f * float(p * p));
       animated.append(points, (uint64_t(s) << 24) * 5952u + uint64_t(s));
       animated_options.root_uvs.emplace_back(float(s) / 30.0f, 0.5f);
+      animated_options.group_ids.push_back(s / 10);
     }
     animated_options.time_code = 12.0;
     animated_options.constant_width = 0.005f;

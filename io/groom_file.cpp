@@ -375,9 +375,9 @@ const std::map<std::string, std::vector<std::string>> &effect_type_keys() {
       {"clump", {"centers", "radius", "twist", "strays"}},
       {"tension", {}},
       {"length", {"distribution", "variation", "cut", "max_length"}},
-      {"wave", {"frequency", "amplitude"}},
+      {"wave", {"frequency", "amplitude", "fraction"}},
       {"frizz", {"frequency", "amplitude", "fraction"}},
-      {"curl", {"radius", "turns_per_unit"}},
+      {"curl", {"radius", "turns_per_unit", "fraction"}},
   };
   return keys;
 }
@@ -442,11 +442,12 @@ EffectDesc GroomReader::read_effect(const YAML::Node &node, const std::string &p
     e.type = type == "wave" ? EffectType::wave : EffectType::frizz;
     e.frequency = above(m, "frequency", e.frequency, 0.0f);
     e.amplitude = at_least(m, "amplitude", e.amplitude, 0.0f);
-    if (type == "frizz") e.fraction = between(m, "fraction", e.fraction, 0.0f, 1.0f);
+    e.fraction = between(m, "fraction", e.fraction, 0.0f, 1.0f);
   } else {
     e.type = EffectType::curl;
     e.curl_radius = at_least(m, "radius", e.curl_radius, 0.0f);
     e.turns_per_unit = at_least(m, "turns_per_unit", e.turns_per_unit, 0.0f);
+    e.fraction = between(m, "fraction", e.fraction, 0.0f, 1.0f);
   }
   m.finish();
   return e;

@@ -378,7 +378,7 @@ TEST_CASE("broken groom fixtures name the file, line:column, key path and what w
             "expected an existing file, got \"../groom_file/no_such_guides.hair\" (" +
                 normal(data_dir / "groom_file/no_such_guides.hair") + " does not exist)");
   check_bad("effect_key_of_other_type.groom.yaml", "9:5", "effects[0].radius",
-            "expected a key of a wave effect (type, seed, amount, ramp, groups, map, frequency, amplitude), "
+            "expected a key of a wave effect (type, seed, amount, ramp, groups, map, frequency, amplitude, fraction), "
             "got radius (a key of clump, curl)");
   check_bad("effect_wrong_type.groom.yaml", "10:16", "effects[2].amplitude", "expected a number, got \"strong\"");
   check_bad("nan_in_vector.groom.yaml", "7:16", "dynamics.gravity[1]", "expected a finite number, got \"nan\"");

@@ -27,6 +27,10 @@ struct FrameGuides {
   /// positions): the bisector of the two segments meeting there. Along a segment the field's
   /// direction goes linearly from one end's tangent to the other's, so it is continuous at vertices.
   std::vector<Eigen::Vector3f> point_tangents;
+  /// Streamline: per segment, the guide's sustained curvature there: the smallest turning rate
+  /// |t_end - t_start| / length over the segment and the two on each side. A curl keeps it high
+  /// along its coils; a single sharp bend (one vertex) does not count.
+  std::vector<float> segment_curvatures;
   /// Fur and linear: every guide resampled to N points by arc length (#guides * N points), with its
   /// #guides * (N - 1) unit segment directions and lengths.
   std::vector<Eigen::Vector3f> resampled;
@@ -126,6 +130,25 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
       tangents[0] = segments > 1 ? mirror(tangents[1], directions[0]) : directions[0];
       tangents[segments] = segments > 1 ? mirror(tangents[segments - 1], directions[segments - 1]) : directions[0];
     }
+    frame.segment_curvatures.resize(segment_count);
+    std::vector<float> turning;
+    for (size_t g = 0; g < guide_count; ++g) {
+      const int64_t first = frame.segment_offsets[g];
+      const int64_t segments = frame.segment_offsets[g + 1] - first;
+      const Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
+      turning.resize(size_t(segments));
+      for (int64_t j = 0; j < segments; ++j) {
+        const float length = frame.segment_lengths[size_t(first + j)];
+        turning[size_t(j)] = length > 0.0f ? (tangents[j + 1] - tangents[j]).norm() / length : 0.0f;
+      }
+      constexpr int64_t spread = 2;
+      for (int64_t j = 0; j < segments; ++j) {
+        float sustained = turning[size_t(j)];
+        for (int64_t i = std::max<int64_t>(j - spread, 0); i <= std::min(j + spread, segments - 1); ++i)
+          sustained = std::min(sustained, turning[size_t(i)]);
+        frame.segment_curvatures[size_t(first + j)] = sustained;
+      }
+    }
   } else {
     const size_t n = size_t(points_per_strand);
     frame.resampled.resize(guide_count * n);
@@ -149,6 +172,7 @@ struct Slot {
   Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
   int64_t segment;  // streamline: segment of the guide holding the last closest point
   float arc_scale;  // streamline: guide length / strand length
+  float distance;   // streamline: distance to the guide's chosen point at the last evaluation
 };
 
 /// Streamline direction field at `p`: on each guide, the closest point within a window moving
@@ -180,20 +204,36 @@ struct StreamlineField {
       const float expected = arc * slot.arc_scale;
       int64_t start = slot.segment;
       while (start + 1 < count && frame.segment_arcs[size_t(first + start + 1)] <= expected - window_arc) ++start;
-      float best_sq = INFINITY, best_t = 0.0f;
+      // Farther from a curl than about its radius (1 / curvature), the squared distance along the
+      // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
+      // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
+      // and the blended direction wanders between coils. The pace term lambda (s - expected)^2, with
+      // lambda = max(0, 2 kappa |p - q| - 1/2) and kappa the sustained curvature, keeps the cost
+      // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
+      // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
+      // of distances needs. |p - q| is the previous evaluation's, half a step behind.
+      const float lambda = std::max(0.0f, 2.0f * frame.segment_curvatures[size_t(first + slot.segment)] * slot.distance - 0.5f);
+      float best_cost = INFINITY, best_sq = INFINITY, best_t = 0.0f;
       int64_t best = start;
       for (int64_t j = start; j < count; ++j) {
-        if (j - start >= lookahead && frame.segment_arcs[size_t(first + j)] > expected + window_arc) break;
+        const float segment_arc = frame.segment_arcs[size_t(first + j)];
+        if (j - start >= lookahead && segment_arc > expected + window_arc) break;
         const Eigen::Vector3f &direction = frame.segment_directions[size_t(first + j)];
-        const float t = std::clamp((p - points[j]).dot(direction), 0.0f, frame.segment_lengths[size_t(first + j)]);
-        const float distance_sq = (p - points[j] - t * direction).squaredNorm();
-        if (distance_sq <= best_sq + tie_sq) {  // ties go forward (a vertex belongs to its outgoing segment)
+        const Eigen::Vector3f offset = p - points[j];
+        const float t = std::clamp((offset.dot(direction) + lambda * (expected - segment_arc)) / (1.0f + lambda), 0.0f,
+                                   frame.segment_lengths[size_t(first + j)]);
+        const float distance_sq = (offset - t * direction).squaredNorm();
+        const float lag = segment_arc + t - expected;
+        const float cost = distance_sq + lambda * lag * lag;
+        if (cost <= best_cost + tie_sq) {  // ties go forward (a vertex belongs to its outgoing segment)
+          best_cost = cost;
           best_sq = distance_sq;
           best = j;
           best_t = t;
         }
       }
       slot.segment = best;
+      slot.distance = std::sqrt(best_sq);
       if (slot.influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq);
       const float length = frame.segment_lengths[size_t(first + best)];
       const float u = length > 0.0f ? best_t / length : 0.0f;
@@ -270,7 +310,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       slots[used++] = {g, binding.weights[slot], binding.influence[slot],
                        root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
                            frame.frames[size_t(g)].transpose(),
-                       0, 1.0f};
+                       0, 1.0f, 0.0f};
     }
     Eigen::Vector3f *points = r_strands.positions.data() + r * n;
 

@@ -134,6 +134,33 @@ float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {
   return float(std::max(k - 1, 0)) * cell_size_;
 }
 
+float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
+  if (cell_triangles_.empty()) return 0.0f;
+  Eigen::Vector3i lo, hi;
+  float bound_sq = INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    const float local = (p[a] - origin_[a]) / cell_size_;
+    const int cell = std::clamp(int(std::floor(local)), 0, dims_[a] - 1);
+    lo[a] = std::max(cell - 1, 0);
+    hi[a] = std::min(cell + 1, dims_[a] - 1);
+    // Cells outside the grid hold no triangle; inside it, the block's faces bound the rest.
+    if (lo[a] > 0) bound_sq = std::min(bound_sq, std::pow(std::max(local - float(lo[a]), 0.0f) * cell_size_, 2.0f));
+    if (hi[a] < dims_[a] - 1)
+      bound_sq = std::min(bound_sq, std::pow(std::max(float(hi[a] + 1) - local, 0.0f) * cell_size_, 2.0f));
+  }
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) {
+        const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+        if (cell_offsets_[c] == cell_offsets_[c + 1]) continue;
+        const Eigen::Vector3f box_lo = origin_ + cell_size_ * Eigen::Vector3f(float(x), float(y), float(z));
+        const Eigen::Vector3f outside =
+            (box_lo - p).cwiseMax(p - box_lo - Eigen::Vector3f::Constant(cell_size_)).cwiseMax(0.0f);
+        bound_sq = std::min(bound_sq, outside.squaredNorm());
+      }
+  return std::sqrt(bound_sq);
+}
+
 float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
   if (hint < 0 || cell_triangles_.empty()) return query_.signed_distance(p, &r_closest);
   auto vertex = [&](int f, int i) -> const Eigen::Vector3f & { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; };
@@ -170,6 +197,66 @@ float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint
   const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
   const float distance = std::sqrt(best_sq);
   return offset.dot(surface_normal(mesh_, r_closest)) < 0.0f ? -distance : distance;
+}
+
+bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &r_distance,
+                                     SurfacePoint &r_closest) const {
+  if (hint < 0 || cell_triangles_.empty()) {
+    r_distance = query_.signed_distance(p, &r_closest);
+    return true;
+  }
+  auto vertex = [&](int f, int i) -> const Eigen::Vector3f & { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; };
+  Eigen::Vector3f best_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
+  int best = hint;
+  float best_sq = (p - (best_bary[0] * vertex(hint, 0) + best_bary[1] * vertex(hint, 1) + best_bary[2] * vertex(hint, 2)))
+                      .squaredNorm();
+  const float radius = std::sqrt(best_sq);
+  // The ball of the hint's distance, clipped to the cells next to p's cell. `gap`: how far p is from
+  // the faces where the clip cut the ball; triangles beyond them are at least that far.
+  Eigen::Vector3i lo, hi;
+  float gap = INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    const float local = (p[a] - origin_[a]) / cell_size_;
+    const int cell = std::clamp(int(std::floor(local)), 0, dims_[a] - 1);
+    const int ball_lo = std::clamp(int(std::floor(local - radius / cell_size_)), 0, dims_[a] - 1);
+    const int ball_hi = std::clamp(int(std::floor(local + radius / cell_size_)), 0, dims_[a] - 1);
+    lo[a] = std::max(ball_lo, cell - 1);
+    hi[a] = std::min(ball_hi, cell + 1);
+    if (ball_lo < lo[a]) gap = std::min(gap, (local - float(lo[a])) * cell_size_);
+    if (ball_hi > hi[a]) gap = std::min(gap, (float(hi[a] + 1) - local) * cell_size_);
+  }
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) {
+        const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+        if (cell_offsets_[c] == cell_offsets_[c + 1]) continue;
+        // Skip a cell whose box is farther than the best distance so far.
+        const Eigen::Vector3f box_lo = origin_ + cell_size_ * Eigen::Vector3f(float(x), float(y), float(z));
+        const Eigen::Vector3f outside =
+            (box_lo - p).cwiseMax(p - box_lo - Eigen::Vector3f::Constant(cell_size_)).cwiseMax(0.0f);
+        if (outside.squaredNorm() > best_sq) continue;
+        for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
+          const int f = cell_triangles_[size_t(i)];
+          const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
+          const float distance_sq =
+              (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
+          if (distance_sq < best_sq || (distance_sq == best_sq && f < best)) {
+            best_sq = distance_sq;
+            best = f;
+            best_bary = bary;
+          }
+        }
+      }
+  r_closest.triangle = best;
+  r_closest.bary = best_bary;
+  const float distance = std::sqrt(best_sq);
+  if (distance > gap) {
+    r_distance = gap;
+    return false;
+  }
+  const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
+  r_distance = offset.dot(surface_normal(mesh_, r_closest)) < 0.0f ? -distance : distance;
+  return true;
 }
 
 }  // namespace plume::interp

@@ -22,9 +22,19 @@ class SkinGrid {
   /// triangle is within |p - closest point of hint|, so only the cells of that ball are searched;
   /// when they are too many, the whole-mesh query is used.
   float signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const;
+  /// The same, searching only the cells of that ball that lie within one cell of p's cell (cells
+  /// farther than the best distance found are skipped). Returns true with the signed distance in
+  /// r_distance when the answer is exact; otherwise false, with r_distance a lower bound of the
+  /// unsigned distance (the distance from p to the searched block's cut faces, at least p's
+  /// distance to its own cell's faces) and no sign. Never queries the whole mesh.
+  bool local_signed_distance(const Eigen::Vector3f &p, int hint, float &r_distance, SurfacePoint &r_closest) const;
   /// A lower bound of the (unsigned) distance from p to the surface, from the chessboard distance
   /// of p's cell to the nearest cell holding a triangle: (k - 1) * cell size. No search.
   float distance_lower_bound(const Eigen::Vector3f &p) const;
+  /// A tighter lower bound near the skin: the distance from p to the nearest box of a cell holding a
+  /// triangle among the 27 cells around p's cell, or to the faces of that block (at least one cell
+  /// size) when none is nearer. No triangle is looked at.
+  float block_lower_bound(const Eigen::Vector3f &p) const;
 
  private:
   const Mesh &mesh_;

@@ -43,14 +43,29 @@ class SkinGuard {
     if (known_distance_ - moved >= margin_) return;
     // Far from every triangle (grid bound) and no way to have crossed the skin since the last known
     // outside point: along q -> p the distance stays above (sd(q) + lower - moved) / 2 > 0.
-    const float lower = grid_ ? grid_->distance_lower_bound(p) : 0.0f;
+    const float lower = grid_ ? std::max(grid_->distance_lower_bound(p), grid_->block_lower_bound(p)) : 0.0f;
     if (lower >= margin_ && known_distance_ > 0.0f && known_distance_ + lower > moved) {
       known_point_ = p;
       known_distance_ = lower;
       return;
     }
     SurfacePoint closest;
-    float distance = distance_to_skin(p, hint_, closest);
+    float distance = 0.0f;
+    if (grid_) {
+      // A search of the cells next to p is exact, or proves p at least `distance` from the skin: then,
+      // as above, p is outside by the margin if it cannot have crossed since the last known point.
+      if (!grid_->local_signed_distance(p, hint_, distance, closest)) {
+        if (distance >= margin_ && known_distance_ > 0.0f && known_distance_ + distance > moved) {
+          hint_ = closest.triangle;
+          known_point_ = p;
+          known_distance_ = distance;
+          return;
+        }
+        distance = query_.signed_distance(p, &closest);
+      }
+    } else {
+      distance = query_.signed_distance(p, &closest);
+    }
     for (int iteration = 0; iteration < 4 && distance < margin_; ++iteration) {
       p += (margin_ - distance + overshoot_) * surface_normal(query_.mesh(), closest);
       distance = distance_to_skin(p, closest.triangle, closest);

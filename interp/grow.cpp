@@ -12,6 +12,17 @@ namespace plume::interp {
 
 namespace {
 
+/// One guide segment as streamline growth reads it, packed so that a window search touches one
+/// record per segment.
+struct GuideSegment {
+  Eigen::Vector3f start;      // first point
+  Eigen::Vector3f direction;  // unit
+  Eigen::Vector3f tangent_start, tangent_end;  // continuous tangents at its two points
+  float length;
+  float arc;        // arc length from the guide's first point to `start`
+  float curvature;  // sustained curvature (see FrameGuides::segment_curvatures)
+};
+
 /// The guides at one frame, prepared once per frame (never per strand).
 struct FrameGuides {
   /// #guides surface frames at the guide roots on the posed mesh (columns tangent, bitangent, normal).
@@ -31,6 +42,8 @@ struct FrameGuides {
   /// |t_end - t_start| / length over the segment and the two on each side. A curl keeps it high
   /// along its coils; a single sharp bend (one vertex) does not count.
   std::vector<float> segment_curvatures;
+  /// Streamline: the same per segment, packed (indexed like segment_directions).
+  std::vector<GuideSegment> segments;
   /// Fur and linear: every guide resampled to N points by arc length (#guides * N points), with its
   /// #guides * (N - 1) unit segment directions and lengths.
   std::vector<Eigen::Vector3f> resampled;
@@ -149,6 +162,17 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
         frame.segment_curvatures[size_t(first + j)] = sustained;
       }
     }
+    frame.segments.resize(segment_count);
+    for (size_t g = 0; g < guide_count; ++g) {
+      const int64_t first = frame.segment_offsets[g];
+      const std::span<const Eigen::Vector3f> points = guides.points(g);
+      const Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
+      for (int64_t j = 0; j < frame.segment_offsets[g + 1] - first; ++j) {
+        const size_t at = size_t(first + j);
+        frame.segments[at] = {points[size_t(j)], frame.segment_directions[at], tangents[j], tangents[j + 1],
+                              frame.segment_lengths[at], frame.segment_arcs[at], frame.segment_curvatures[at]};
+      }
+    }
   } else {
     const size_t n = size_t(points_per_strand);
     frame.resampled.resize(guide_count * n);
@@ -198,12 +222,12 @@ struct StreamlineField {
       const size_t g = size_t(slot.guide);
       const int64_t first = frame.segment_offsets[g];
       const int64_t count = frame.segment_offsets[g + 1] - first;
-      const Eigen::Vector3f *points = guides.positions.data() + guides.offsets[g];
+      const GuideSegment *segments = frame.segments.data() + first;
       // The window: from the last closest point (never backwards), over the guide arc around where a
       // strand keeping pace with the guide would be (arc * guide length / strand length).
       const float expected = arc * slot.arc_scale;
       int64_t start = slot.segment;
-      while (start + 1 < count && frame.segment_arcs[size_t(first + start + 1)] <= expected - window_arc) ++start;
+      while (start + 1 < count && segments[start + 1].arc <= expected - window_arc) ++start;
       // Farther from a curl than about its radius (1 / curvature), the squared distance along the
       // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
       // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
@@ -212,16 +236,18 @@ struct StreamlineField {
       // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
       // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
       // of distances needs. |p - q| is the previous evaluation's, half a step behind.
-      const float lambda = std::max(0.0f, 2.0f * frame.segment_curvatures[size_t(first + slot.segment)] * slot.distance - 0.5f);
+      const float lambda = std::max(0.0f, 2.0f * segments[slot.segment].curvature * slot.distance - 0.5f);
+      const float inverse_one_plus_lambda = 1.0f / (1.0f + lambda);
       float best_cost = INFINITY, best_sq = INFINITY, best_t = 0.0f;
       int64_t best = start;
       for (int64_t j = start; j < count; ++j) {
-        const float segment_arc = frame.segment_arcs[size_t(first + j)];
+        const GuideSegment &segment = segments[j];
+        const float segment_arc = segment.arc;
         if (j - start >= lookahead && segment_arc > expected + window_arc) break;
-        const Eigen::Vector3f &direction = frame.segment_directions[size_t(first + j)];
-        const Eigen::Vector3f offset = p - points[j];
-        const float t = std::clamp((offset.dot(direction) + lambda * (expected - segment_arc)) / (1.0f + lambda), 0.0f,
-                                   frame.segment_lengths[size_t(first + j)]);
+        const Eigen::Vector3f &direction = segment.direction;
+        const Eigen::Vector3f offset = p - segment.start;
+        const float t = std::clamp((offset.dot(direction) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda,
+                                   0.0f, segment.length);
         const float distance_sq = (offset - t * direction).squaredNorm();
         const float lag = segment_arc + t - expected;
         const float cost = distance_sq + lambda * lag * lag;
@@ -233,18 +259,18 @@ struct StreamlineField {
         }
       }
       slot.segment = best;
-      slot.distance = std::sqrt(best_sq);
+      const float best_distance = std::sqrt(best_sq);
+      slot.distance = best_distance;
       if (slot.influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq);
-      const float length = frame.segment_lengths[size_t(first + best)];
-      const float u = length > 0.0f ? best_t / length : 0.0f;
-      const Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
+      const GuideSegment &chosen = segments[best];
+      const float u = chosen.length > 0.0f ? best_t / chosen.length : 0.0f;
       const Eigen::Vector3f direction =
-          unit_or((1.0f - u) * tangents[best] + u * tangents[best + 1], frame.segment_directions[size_t(first + best)]);
+          unit_or((1.0f - u) * chosen.tangent_start + u * chosen.tangent_end, chosen.direction);
       if (best_sq <= hit_distance_sq) {
         hit_blend += slot.influence * direction;
         hit_sum += slot.influence;
       } else if (hit_sum == 0.0f) {
-        const float w = slot.influence / std::sqrt(best_sq);
+        const float w = slot.influence / best_distance;
         blend += w * direction;
         weight_sum += w;
       }

@@ -95,6 +95,7 @@ struct Figure {
   double joint_steps_per_second;      // wall clock
   double joint_steps_per_cpu_second;  // process CPU time (all threads): robust on a loaded machine
   double length_error;
+  double solves_per_guide_step = 0.0;  // tridiagonal solves per guide and substep (simulator only)
 };
 
 double cpu_seconds() {
@@ -124,7 +125,9 @@ Figure run_simulator(const Mesh &head, const std::vector<Mesh> &poses, const Gui
   const double cpu = cpu_seconds() - cpu_start;
   const std::vector<Eigen::Vector3d> x(sim.positions().begin(), sim.positions().end());
   const double work = double(guides.strands.point_count()) * double(poses.size());
-  return {work / seconds, work / cpu, max_length_error(x, guides.strands)};
+  const double guide_steps = double(sim.work().substeps) * double(guides.size());
+  return {work / seconds, work / cpu, max_length_error(x, guides.strands),
+          double(sim.work().tridiagonal_solves) / guide_steps};
 }
 
 // Baseline: a position-based chain. Verlet step under gravity, root and first joint carried
@@ -203,12 +206,12 @@ int main() {
   // Wall-clock figures depend on what else runs on the machine; the CPU-time figure times the
   // core count is what the same run would give with the cores to itself.
   const int cores = omp_get_num_procs();
-  std::printf("%-58s %14s %18s %12s %12s\n", "method", "joint-steps/s", "cpu-based x cores", "vs baseline",
-              "length err");
+  std::printf("%-58s %14s %18s %12s %12s %14s\n", "method", "joint-steps/s", "cpu-based x cores", "vs baseline",
+              "length err", "solves/guide/step");
   auto row = [&](const char *name, const Figure &f) {
-    std::printf("%-58s %14.3e %18.3e %12.2f %12.2e\n", name, f.joint_steps_per_second,
+    std::printf("%-58s %14.3e %18.3e %12.2f %12.2e %14.2f\n", name, f.joint_steps_per_second,
                 f.joint_steps_per_cpu_second * cores, f.joint_steps_per_second / b.joint_steps_per_second,
-                f.length_error);
+                f.length_error, f.solves_per_guide_step);
   };
   row("tridiagonal chain, no collisions (target >= 1e7)", p);
   row("tridiagonal chain, shapes + emitter (target >= 2.5e6)", c);

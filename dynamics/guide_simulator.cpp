@@ -7,6 +7,7 @@
 
 #include <Eigen/SVD>
 
+#include "dynamics/emitter_query.h"
 #include "dynamics/skin_shapes.h"
 #include "dynamics/tridiagonal.h"
 #include "dynamics/wind.h"
@@ -39,7 +40,7 @@ constexpr int64_t kParallelGuides = 128;
 
 Vector3d unit_or(const Vector3d &d, const Vector3d &fallback) {
   const double len = d.norm();
-  return len > 1e-300 ? Vector3d(d / len) : fallback;
+  return len > 1e-300 ? Vector3d(d * (1.0 / len)) : fallback;
 }
 
 // The minimal rotation taking unit vector a to unit vector b (parallel transport along the
@@ -55,6 +56,22 @@ Matrix3d transport(const Vector3d &a, const Vector3d &b) {
   Matrix3d wx;
   wx << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
   return Matrix3d::Identity() + wx + wx * wx / (1.0 + c);
+}
+
+// rotation <- T(a -> b) rotation without forming T: on each column v,
+//   T v = c v + w x v + w (w . v) / (1 + c)   ([w]x^2 v = w (w . v) - |w|^2 v, |w|^2 = 1 - c^2).
+void transport_frame(const Vector3d &a, const Vector3d &b, Matrix3d &rotation) {
+  const double c = a.dot(b);
+  if (c < -1.0 + 1e-12) {
+    rotation = transport(a, b) * rotation;
+    return;
+  }
+  const Vector3d w = a.cross(b);
+  const Vector3d w_scaled = w / (1.0 + c);
+  for (int k = 0; k < 3; ++k) {
+    const Vector3d column = rotation.col(k);
+    rotation.col(k) = c * column + w.cross(column) + w.dot(column) * w_scaled;
+  }
 }
 
 void check_settings(const DynamicsSettings &s) {
@@ -97,6 +114,7 @@ struct GuideSimulator::State {
   std::vector<Vector3d> query_point;  // position at the last emitter query
   std::vector<double> query_clearance;  // |distance| to the emitter at that query (-inf: none yet)
   std::vector<double> skin_travel;      // how far the skin has moved since that query (bound)
+  std::vector<SurfacePoint> query_closest;  // closest emitter point at that query (search hint)
 
   // Per joint scratch, overwritten every substep (no allocation while stepping).
   std::vector<Vector3d> dir, target, velocity_rhs, correction, contact_normal, contact_velocity;
@@ -108,7 +126,7 @@ struct GuideSimulator::State {
   std::vector<PosedShape> shapes_start, shapes_end;
   Mesh mesh_from, mesh_to, mesh_sub;  // emitter at the previous pose, current pose, substep end
   std::vector<Eigen::Vector3f> sub_start_positions;
-  std::unique_ptr<MeshQuery> query;
+  std::unique_ptr<EmitterQuery> query;
   // The emitter's motion over the current substep as a best-fit rigid motion p -> R p + t plus
   // the largest vertex departure from it (the non-rigid residual), for the query-skipping bound.
   Matrix3d skin_rotation = Matrix3d::Identity();
@@ -168,6 +186,7 @@ void GuideSimulator::State::reset_guide(size_t g) {
     query_clearance[begin + j] = -std::numeric_limits<double>::infinity();
     skin_travel[begin + j] = 0.0;
     query_point[begin + j] = x[begin + j];
+    query_closest[begin + j] = roots[g];  // on the skin, near the guide: the first search's hint
   }
   if (n < 3) return;
   const Vector3d gravity = settings.gravity.cast<double>();
@@ -228,7 +247,8 @@ bool GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
     const double bound = query_clearance[j] - (x[j] - query_point[j]).norm() - skin_travel[j];
     if (bound > joint_margin) continue;
     SurfacePoint closest;
-    const double d = query->signed_distance(x[j].cast<float>(), &closest);
+    const double d = query->signed_distance(x[j], query_closest[j], closest);
+    query_closest[j] = closest;
     if (d < joint_margin) {
       const Vector3d normal = surface_normal(mesh_sub, closest).cast<double>();
       x[j] = surface_position(mesh_sub, closest).cast<double>() + joint_margin * normal;
@@ -266,15 +286,15 @@ int GuideSimulator::State::project_lengths(int64_t begin, int64_t n) {
   for (int64_t j = 2; j < n; ++j) contacts = contacts || contact_normal[begin + j].squaredNorm() > 0.0;
   int solves = 0;
   for (int iteration = 0;; ++iteration) {
-    double worst = 0.0;
+    bool converged = true;
     for (int64_t i = 2; i < n; ++i) {
       const Vector3d d = x[begin + i] - x[begin + i - 1];
       const double len = d.norm();
-      e[i] = unit_or(d, e[i]);
+      if (len > 1e-300) e[i] = d * (1.0 / len);
       rhs[i - 2] = rest_length[begin + i] - len;
-      worst = std::max(worst, std::abs(rhs[i - 2]) / rest_length[begin + i]);
+      converged = converged && std::abs(rhs[i - 2]) <= kLengthTolerance * rest_length[begin + i];
     }
-    if (worst <= kLengthTolerance) return solves;
+    if (converged) return solves;
     if (iteration == kMaxProjectionIterations) break;
     for (int64_t i = 2; i < n; ++i) {
       const int64_t r = i - 2;
@@ -367,7 +387,7 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   for (int64_t i = 2; i < n; ++i) {
     e[i] = unit_or(xs[i] - xs[i - 1], d_prev);
     goal[i] = rotation * gold[begin + i];
-    rotation = transport(d_prev, e[i]) * rotation;
+    transport_frame(d_prev, e[i], rotation);
     d_prev = e[i];
   }
 
@@ -384,17 +404,18 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   //    hanging guide) sees its tension explicitly and zigzags at large steps.
   const Vector3d gravity = settings.gravity.cast<double>();
   const Matrix3d skin_turn = f1.rotation.toRotationMatrix() * f0.rotation.toRotationMatrix().transpose();
-  const double h2 = h * h;
+  const double h2 = h * h, inv_h = 1.0 / h;
   const double *l = rest_length.data() + begin;
+  WindField air(settings, time_end);
   auto coupling = [&](int64_t i) { return i < n ? k[i] + std::max(0.0, -tau[i]) / l[i] : 0.0; };
   for (int64_t j = 2; j < n; ++j) {
     const int64_t r = j - 2;
     const double k_next = j + 1 < n ? k[j + 1] : 0.0;
     const double c = coupling(j), c_next = coupling(j + 1);
-    const Vector3d wind = wind_velocity(settings, time_end, xs[j]);
+    const Vector3d wind = air.at(xs[j]);
     const double a = settings.drag * m[j] * (vs[j] - wind).norm();
     const double gamma = settings.damping * m[j];
-    const Vector3d skin_velocity = (skin_turn * (xs[j] - f0.origin) + f1.origin - xs[j]) / h;
+    const Vector3d skin_velocity = (skin_turn * (xs[j] - f0.origin) + f1.origin - xs[j]) * inv_h;
     Vector3d force = m[j] * gravity + a * wind + gamma * skin_velocity + k[j] * (xs[j - 1] + goal[j] - xs[j]) +
                      tau[j] * e[j];
     if (j + 1 < n) force -= k_next * (xs[j] + goal[j + 1] - xs[j + 1]) + tau[j + 1] * e[j + 1];
@@ -410,7 +431,7 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   //    multipliers are impulses, lambda / h the tension force carried to the next predictor, so
   //    a guide at rest stays at rest.
   project_velocities(begin, n, first_velocity, vel, vs, lambda);
-  for (int64_t j = 2; j < n; ++j) tau[j] += lambda[j - 2] / h;
+  for (int64_t j = 2; j < n; ++j) tau[j] += lambda[j - 2] * inv_h;
 
   // 4. Positions; kinematic joints placed on the skin.
   xs[0] = root_end;
@@ -420,8 +441,12 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
     xs[j] += h * vs[j];
     contact_normal[begin + j] = Vector3d::Zero();
     correction[begin + j] = Vector3d::Zero();
-    skin_travel[begin + j] += skin_residual;
-    query_point[begin + j] = skin_rotation * query_point[begin + j] + skin_translation;
+  }
+  if (query) {
+    for (int64_t j = begin + 2; j < begin + n; ++j) {
+      skin_travel[j] += skin_residual;
+      query_point[j] = skin_rotation * query_point[j] + skin_translation;
+    }
   }
 
   // 5. Collisions and exact lengths: push out, then restore lengths moving contacts tangentially.
@@ -437,7 +462,7 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   //    steps. Push-outs do not: contact velocities are corrected below instead.
   //    Then the velocities are made tangent to the constraints at the final directions (left in
   //    `dir` by project_lengths), which removes the stretching part of that correction.
-  for (int64_t j = 2; j < n; ++j) vs[j] += correction[begin + j] / h;
+  for (int64_t j = 2; j < n; ++j) vs[j] += correction[begin + j] * inv_h;
   project_velocities(begin, n, first_velocity, vs, vs, lambda);
   ++solves;
 
@@ -476,6 +501,7 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
   st.root_to.resize(guide_num);
   st.guide_solves.assign(guide_num, 0);
   st.guide_rows.assign(guide_num, 0);
+  st.query_closest.assign(joint_num, SurfacePoint{});
   for (auto *a : {&st.rest_local, &st.x, &st.v, &st.gold, &st.query_point, &st.dir, &st.target, &st.velocity_rhs,
                   &st.correction, &st.contact_normal, &st.contact_velocity})
     a->assign(joint_num, Vector3d::Zero());
@@ -590,7 +616,7 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
       // A still emitter (a held pose, a pre-roll) keeps its tree.
       if (move2 > 0.0 || !st.query) {
         st.mesh_sub.compute_normals();
-        st.query = std::make_unique<MeshQuery>(st.mesh_sub);
+        st.query = std::make_unique<EmitterQuery>(st.mesh_sub);
       }
     }
     const double time_end = time_ + (s + 1) * h;

@@ -7,7 +7,6 @@
 
 #include <Eigen/SVD>
 
-#include "dynamics/emitter_query.h"
 #include "dynamics/skin_shapes.h"
 #include "dynamics/tridiagonal.h"
 #include "dynamics/wind.h"
@@ -126,7 +125,7 @@ struct GuideSimulator::State {
   std::vector<PosedShape> shapes_start, shapes_end;
   Mesh mesh_from, mesh_to, mesh_sub;  // emitter at the previous pose, current pose, substep end
   std::vector<Eigen::Vector3f> sub_start_positions;
-  std::unique_ptr<EmitterQuery> query;
+  std::unique_ptr<MeshQuery> query;  // built without a kd-tree start: every query has a hint
   // The emitter's motion over the current substep as a best-fit rigid motion p -> R p + t plus
   // the largest vertex departure from it (the non-rigid residual), for the query-skipping bound.
   Matrix3d skin_rotation = Matrix3d::Identity();
@@ -616,7 +615,7 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
       // A still emitter (a held pose, a pre-roll) keeps its tree.
       if (move2 > 0.0 || !st.query) {
         st.mesh_sub.compute_normals();
-        st.query = std::make_unique<EmitterQuery>(st.mesh_sub);
+        st.query = std::make_unique<MeshQuery>(st.mesh_sub, MeshQuery::Start::hint_only);
       }
     }
     const double time_end = time_ + (s + 1) * h;

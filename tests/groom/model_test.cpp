@@ -171,3 +171,20 @@ TEST_CASE("a mesh with only degenerate triangles or bad indices is rejected", "[
   flat.triangles = {{0, 1, 5}};
   REQUIRE_THROWS_WITH(flat.validate("bad.obj"), Catch::Contains("bad.obj") && Catch::Contains("vertex 6"));
 }
+
+TEST_CASE("a hinted closest-point query finds the same point as an unhinted one", "[groom]") {
+  const Mesh sphere = test::make_sphere(2.0f, 16, 32);
+  const MeshQuery full(sphere);
+  const MeshQuery light(sphere, MeshQuery::Start::hint_only);
+  const SurfacePoint far_hint{40, Eigen::Vector3f(0.2f, 0.3f, 0.5f)};
+  for (const Eigen::Vector3f &p : {Eigen::Vector3f(3, 0.5f, 0.2f), Eigen::Vector3f(0.3f, -0.9f, 1.5f),
+                                   Eigen::Vector3f(-1.2f, 1.0f, 1.4f), Eigen::Vector3f(0.1f, -2.5f, -0.3f)}) {
+    const SurfacePoint expected = full.closest(p);
+    for (const SurfacePoint &hint : {expected, far_hint, SurfacePoint{}}) {
+      SurfacePoint found;
+      const double d = light.signed_distance(p.cast<double>(), hint, found);
+      REQUIRE((surface_position(sphere, found) - surface_position(sphere, expected)).norm() < 1e-5f);
+      REQUIRE(d == Approx(full.signed_distance(p)).margin(1e-5));
+    }
+  }
+}

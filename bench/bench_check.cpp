@@ -56,7 +56,9 @@ PartingLine side_parting(float side) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char **argv) {
+  // --crossings: only the crossing count (the checker's costliest part).
+  const bool crossings_only = argc > 1 && std::string(argv[1]) == "--crossings";
   const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/sintel/";
   const Mesh mesh = io::read_obj_mesh(folder + "sintel.obj");
   const MeshQuery query(mesh);
@@ -67,38 +69,40 @@ int main() {
   std::printf("Sintel head: %zu triangles; %d cores, %d threads\n", mesh.triangle_count(), omp_get_num_procs(),
               omp_get_max_threads());
 
-  // 400 guides standing on the scalp (only their roots matter to the partings).
-  const Roots guide_points = scatter_roots(mesh, 400, 11, scalp);
-  StrandSet standing;
-  for (size_t g = 0; g < guide_points.size(); ++g) {
-    const Eigen::Vector3f p = surface_position(mesh, guide_points.points[g]);
-    const Eigen::Vector3f n = surface_normal(mesh, guide_points.points[g]);
-    const Eigen::Vector3f strand[2] = {p, p + 10.0f * n};
-    standing.append(strand, g);
-  }
-  const Guides guides400 = bind_guides(query, standing, "standing guides");
-  PartingSettings settings;
-  settings.lines = {side_parting(1.0f), side_parting(-1.0f)};
-  double build_cpu = 0, plain_cpu = 0, parted_cpu = 0, skin_cpu = 0, cross_cpu = 0, all_cpu = 0;
-  const double build = median_seconds([&] { interp::PartingField field(mesh, guides400, settings); }, &build_cpu);
   const Roots roots = scatter_roots(mesh, 100000, 7, scalp);
   InterpolationSettings interpolation;
-  const double plain_bind = median_seconds([&] { interp::bind(mesh, guides400, roots, interpolation); }, &plain_cpu);
-  interp::Binding parted;
-  const double parted_bind = median_seconds([&] {
-    const interp::PartingField field(mesh, guides400, settings);
-    parted = interp::bind(mesh, guides400, roots, interpolation, &field);
-  }, &parted_cpu);
-  const interp::Binding plain = interp::bind(mesh, guides400, roots, interpolation);
-  size_t changed = 0;
-  for (size_t i = 0; i < plain.weights.size(); ++i)
-    changed += plain.guide_ids[i] != parted.guide_ids[i] || std::abs(plain.weights[i] - parted.weights[i]) > 1e-3f;
   std::printf("%-58s %8s %8s\n", "", "wall s", "CPU s");
-  std::printf("%-58s %8.3f %8.3f\n", "PartingField: 400 guides x 2 partial partings (build)", build, build_cpu);
-  std::printf("%-58s %8.3f %8.3f\n", "bind: 100k roots, 400 guides, no parting", plain_bind, plain_cpu);
-  std::printf("%-58s %8.3f %8.3f  (%.1f%% of slots changed)\n",
-              "PartingField + bind: 100k roots, 400 guides, 2 partings", parted_bind, parted_cpu,
-              100.0 * double(changed) / double(plain.weights.size()));
+  if (!crossings_only) {
+    // 400 guides standing on the scalp (only their roots matter to the partings).
+    const Roots guide_points = scatter_roots(mesh, 400, 11, scalp);
+    StrandSet standing;
+    for (size_t g = 0; g < guide_points.size(); ++g) {
+      const Eigen::Vector3f p = surface_position(mesh, guide_points.points[g]);
+      const Eigen::Vector3f n = surface_normal(mesh, guide_points.points[g]);
+      const Eigen::Vector3f strand[2] = {p, p + 10.0f * n};
+      standing.append(strand, g);
+    }
+    const Guides guides400 = bind_guides(query, standing, "standing guides");
+    PartingSettings settings;
+    settings.lines = {side_parting(1.0f), side_parting(-1.0f)};
+    double build_cpu = 0, plain_cpu = 0, parted_cpu = 0;
+    const double build = median_seconds([&] { interp::PartingField field(mesh, guides400, settings); }, &build_cpu);
+    const double plain_bind = median_seconds([&] { interp::bind(mesh, guides400, roots, interpolation); }, &plain_cpu);
+    interp::Binding parted;
+    const double parted_bind = median_seconds([&] {
+      const interp::PartingField field(mesh, guides400, settings);
+      parted = interp::bind(mesh, guides400, roots, interpolation, &field);
+    }, &parted_cpu);
+    const interp::Binding plain = interp::bind(mesh, guides400, roots, interpolation);
+    size_t changed = 0;
+    for (size_t i = 0; i < plain.weights.size(); ++i)
+      changed += plain.guide_ids[i] != parted.guide_ids[i] || std::abs(plain.weights[i] - parted.weights[i]) > 1e-3f;
+    std::printf("%-58s %8.3f %8.3f\n", "PartingField: 400 guides x 2 partial partings (build)", build, build_cpu);
+    std::printf("%-58s %8.3f %8.3f\n", "bind: 100k roots, 400 guides, no parting", plain_bind, plain_cpu);
+    std::printf("%-58s %8.3f %8.3f  (%.1f%% of slots changed)\n",
+                "PartingField + bind: 100k roots, 400 guides, 2 partings", parted_bind, parted_cpu,
+                100.0 * double(changed) / double(plain.weights.size()));
+  }
 
   // 100k streamline strands x 32 points from Sintel's 228 guides.
   const interp::Binding binding = interp::bind(mesh, sintel, roots, interpolation);
@@ -107,20 +111,24 @@ int main() {
   StrandSet strands;
   interp::grow(binding, mesh, query, roots, sintel.strands, options, strands);
 
+  double skin_cpu = 0, cross_cpu = 0, all_cpu = 0;
+  interp::CrossingCount crossings;
+  const double cross = median_seconds([&] { crossings = interp::count_crossings(strands, 0.001f, 8); }, &cross_cpu);
+  std::printf("%-58s %8.3f %8.3f  (%zu pairs, %.1f piece pairs examined per segment)\n",
+              "check: crossings at tolerance 0.001, 100k x 32", cross, cross_cpu, crossings.pairs,
+              double(crossings.segment_pairs_examined) / double(strands.point_count() - strands.strand_count()));
+  if (crossings_only) return 0;
+
   std::vector<uint64_t> examples;
   size_t inside = 0;
   const double skin = median_seconds([&] { inside = interp::count_points_inside(strands, query, 0.0f, 8, examples); }, &skin_cpu);
-  interp::CrossingCount crossings;
-  const double cross = median_seconds([&] { crossings = interp::count_crossings(strands, 0.001f, 8); }, &cross_cpu);
   interp::CheckOptions check_options;
   check_options.crossing_tolerance = 0.001f;
   interp::CheckReport report;
   const double all = median_seconds([&] { report = interp::check_strands(strands, query, check_options, &sintel); }, &all_cpu);
   std::printf("%-58s %8.3f %8.3f  (%zu points inside)\n", "check: points inside the skin, 100k x 32", skin, skin_cpu,
               inside);
-  std::printf("%-58s %8.3f %8.3f  (%zu pairs, %.1f piece pairs examined per segment)\n",
-              "check: crossings at tolerance 0.001, 100k x 32", cross, cross_cpu, crossings.pairs,
-              double(crossings.segment_pairs_examined) / double(strands.point_count() - strands.strand_count()));
-  std::printf("%-58s %8.3f %8.3f\n", "check_strands: all checks with guides, 100k x 32", all, all_cpu);
+  std::printf("%-58s %8.3f %8.3f  (%zu crossing pairs)\n", "check_strands: all checks with guides, 100k x 32", all,
+              all_cpu, report.crossing_pairs);
   return 0;
 }

@@ -238,25 +238,31 @@ struct StreamlineField {
       // of distances needs. |p - q| is the previous evaluation's, half a step behind.
       const float lambda = std::max(0.0f, 2.0f * segments[slot.segment].curvature * slot.distance - 0.5f);
       const float inverse_one_plus_lambda = 1.0f / (1.0f + lambda);
-      float best_cost = INFINITY, best_sq = INFINITY, best_t = 0.0f;
-      int64_t best = start;
-      for (int64_t j = start; j < count; ++j) {
+      // The cost is convex along the guide (the pace term above), so its minimum over each segment
+      // falls then rises along the window: walk forward from the window's first segment while the
+      // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment). Usually
+      // one or two segments are looked at instead of the whole window.
+      auto segment_cost = [&](int64_t j, float &r_t, float &r_distance_sq) {
         const GuideSegment &segment = segments[j];
-        const float segment_arc = segment.arc;
-        if (j - start >= lookahead && segment_arc > expected + window_arc) break;
-        const Eigen::Vector3f &direction = segment.direction;
         const Eigen::Vector3f offset = p - segment.start;
-        const float t = std::clamp((offset.dot(direction) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda,
-                                   0.0f, segment.length);
-        const float distance_sq = (offset - t * direction).squaredNorm();
-        const float lag = segment_arc + t - expected;
-        const float cost = distance_sq + lambda * lag * lag;
-        if (cost <= best_cost + tie_sq) {  // ties go forward (a vertex belongs to its outgoing segment)
-          best_cost = cost;
-          best_sq = distance_sq;
-          best = j;
-          best_t = t;
-        }
+        r_t = std::clamp((offset.dot(segment.direction) + lambda * (expected - segment.arc)) * inverse_one_plus_lambda,
+                         0.0f, segment.length);
+        r_distance_sq = (offset - r_t * segment.direction).squaredNorm();
+        const float lag = segment.arc + r_t - expected;
+        return r_distance_sq + lambda * lag * lag;
+      };
+      int64_t best = start;
+      float best_t = 0.0f, best_sq = 0.0f;
+      float best_cost = segment_cost(start, best_t, best_sq);
+      for (int64_t j = start + 1; j < count; ++j) {
+        if (j - start >= lookahead && segments[j].arc > expected + window_arc) break;
+        float t = 0.0f, distance_sq = 0.0f;
+        const float cost = segment_cost(j, t, distance_sq);
+        if (cost > best_cost + tie_sq) break;
+        best_cost = cost;
+        best_sq = distance_sq;
+        best = j;
+        best_t = t;
       }
       slot.segment = best;
       const float best_distance = std::sqrt(best_sq);

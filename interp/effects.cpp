@@ -10,6 +10,8 @@
 
 #include "groom/error.h"
 #include "interp/noise.h"
+#include "interp/skin_grid.h"
+#include "interp/skin_guard.h"
 
 namespace plume::interp {
 
@@ -525,29 +527,29 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   }
   // Grown strands are at least skin_margin outside the skin (growth pushes them out), and the signed
   // distance is 1-Lipschitz, sd(p') >= sd(p) - |p' - p|: a point the stack moved by less than the margin
-  // is still outside. The others are checked along the strand with the same bound from the last queried
-  // point (as growth's push-out does), and pushed out along the normal to the margin when closer.
-  const float margin = skin_margin;
-  const float overshoot = 1e-4f * std::max(margin, 0.0f);
+  // is still outside and is skipped. The others go through growth's skin guard (interp/skin_guard.h):
+  // the same Lipschitz bound from the last known point, then the grid's block bound and a local search
+  // started from the last closest triangle (the root's at first), and a push along the normal to the
+  // margin when closer. A skipped point is left as it is, but a copy of it still goes through the
+  // guard: the guard then walks the strand in small steps from the root, as in growth, so its local
+  // searches stay exact and its bound positive (a first moved point far up the strand would otherwise
+  // cost a whole-mesh query).
+  const SkinGrid grid(posed_mesh, posed_query);
+  const float scale = mesh_scale(posed_mesh);
+  const float margin_sq = skin_margin * skin_margin;
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
     const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
     const Eigen::Vector3f *grown = grown_positions.data() + r_strands.offsets[i];
-    Eigen::Vector3f known_point = pts[0];  // the root never moves and lies on the skin
-    float known_distance = 0.0f;
+    SkinGuard guard(posed_query, skin_margin, scale, &grid);
+    guard.start(pts[0], root_points_[i].triangle);  // the root never moves and lies on the skin
     for (size_t j = 1; j < pts.size(); ++j) {
-      Eigen::Vector3f &p = pts[j];
-      if ((p - grown[j]).squaredNorm() < margin * margin) continue;
-      if (known_distance - (p - known_point).norm() >= margin) continue;
-      SurfacePoint closest;
-      float distance = posed_query.signed_distance(p, &closest);
-      // A few steps for concave places, where one move along the normal falls short.
-      for (int step = 0; step < 4 && distance < margin; ++step) {
-        p += (margin - distance + overshoot) * surface_normal(posed_mesh, closest);
-        distance = posed_query.signed_distance(p, &closest);
+      if ((pts[j] - grown[j]).squaredNorm() >= margin_sq) {
+        guard.keep_out(pts[j]);
+      } else {
+        Eigen::Vector3f unmoved = pts[j];
+        guard.keep_out(unmoved);
       }
-      known_point = p;
-      known_distance = distance;
     }
   }
 }

@@ -466,65 +466,24 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   if (effects_.empty()) return;
   // The strands as growth left them, for the skin pass at the end.
   const std::vector<Eigen::Vector3f> grown_positions = r_strands.positions;
-  {
-    std::vector<SurfaceFrame> posed_frames(static_cast<size_t>(n));
-#pragma omp parallel for schedule(static)
-    for (int64_t i = 0; i < n; ++i) posed_frames[i] = surface_frame(posed_mesh, root_points_[i]);
 
-    // Tension needs each guide's arc lengths and posed root normal once per frame.
-    const bool any_tension = std::any_of(effects_.begin(), effects_.end(),
-                                         [](const Prepared &e) { return e.desc.type == EffectType::tension; });
-    std::vector<float> guide_cum;
-    std::vector<Eigen::Vector3f> guide_normals;
-    if (any_tension) {
-      if (guides_this_frame.strand_count() != guide_roots_.size())
-        throw InternalError("EffectStack::apply: guide count differs from the binding");
-      guide_cum.resize(guides_this_frame.point_count());
-      std::vector<float> cum;
-      for (size_t g = 0; g < guide_roots_.size(); ++g) {
-        cumulative_lengths(guides_this_frame.points(g), cum);
-        std::copy(cum.begin(), cum.end(), guide_cum.begin() + guides_this_frame.offsets[g]);
-        guide_normals.push_back(surface_normal(posed_mesh, guide_roots_[g]));
-      }
-    }
-
-    for (const Prepared &e : effects_) {
-      // One pass per effect: a clump reads its centre strands as the previous effects left them.
-#pragma omp parallel
-      {
-        Scratch scratch;
-#pragma omp for schedule(static)
-        for (int64_t i = 0; i < n; ++i) {
-          if (e.strength[i] == 0.0f) continue;
-          const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
-          switch (e.desc.type) {
-            case EffectType::clump:
-              apply_clump(e, size_t(i), r_strands, pts);
-              break;
-            case EffectType::tension: {
-              const int32_t g = nearest_guide_[i];
-              const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
-                                               size_t(guides_this_frame.points_in(size_t(g))));
-              const Eigen::Quaternionf rotation =
-                  Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frames[i].normal());
-              apply_tension(e, size_t(i), guides_this_frame.points(size_t(g)), cum, rotation, pts, scratch);
-              break;
-            }
-            case EffectType::length:
-              apply_length(e, size_t(i), ids_[i], rest_frames_[i], posed_frames[i], pts, scratch);
-              break;
-            case EffectType::wave:
-            case EffectType::frizz:
-              apply_noise(e, size_t(i), ids_[i], rest_frames_[i], posed_frames[i], pts, scratch);
-              break;
-            case EffectType::curl:
-              apply_curl(e, size_t(i), ids_[i], posed_frames[i], pts, scratch);
-              break;
-          }
-        }
-      }
+  // Tension needs each guide's arc lengths and posed root normal once per frame.
+  const bool any_tension = std::any_of(effects_.begin(), effects_.end(),
+                                       [](const Prepared &e) { return e.desc.type == EffectType::tension; });
+  std::vector<float> guide_cum;
+  std::vector<Eigen::Vector3f> guide_normals;
+  if (any_tension) {
+    if (guides_this_frame.strand_count() != guide_roots_.size())
+      throw InternalError("EffectStack::apply: guide count differs from the binding");
+    guide_cum.resize(guides_this_frame.point_count());
+    std::vector<float> cum;
+    for (size_t g = 0; g < guide_roots_.size(); ++g) {
+      cumulative_lengths(guides_this_frame.points(g), cum);
+      std::copy(cum.begin(), cum.end(), guide_cum.begin() + guides_this_frame.offsets[g]);
+      guide_normals.push_back(surface_normal(posed_mesh, guide_roots_[g]));
     }
   }
+
   // Grown strands are at least skin_margin outside the skin (growth pushes them out), and the signed
   // distance is 1-Lipschitz, sd(p') >= sd(p) - |p' - p|: a point the stack moved by less than the margin
   // is still outside and is skipped. The others go through growth's skin guard (interp/skin_guard.h):
@@ -537,9 +496,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   const SkinGrid grid(posed_mesh, posed_query);
   const float scale = mesh_scale(posed_mesh);
   const float margin_sq = skin_margin * skin_margin;
-#pragma omp parallel for schedule(static)
-  for (int64_t i = 0; i < n; ++i) {
-    const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
+  auto keep_out_of_skin = [&](int64_t i, std::span<Eigen::Vector3f> pts) {
     const Eigen::Vector3f *grown = grown_positions.data() + r_strands.offsets[i];
     SkinGuard guard(posed_query, skin_margin, scale, &grid);
     guard.start(pts[0], root_points_[i].triangle);  // the root never moves and lies on the skin
@@ -551,6 +508,66 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
         guard.keep_out(unmoved);
       }
     }
+  };
+
+  // A clump reads its centre strands as the previous effects left them, so it needs every strand done
+  // with the effects before it: it runs as a pass of its own. The other effects only read and write
+  // their own strand, so each run of them (up to the next clump) is one pass doing all of them strand
+  // by strand while the strand sits in cache; the run that ends the stack also does the skin pass.
+  const size_t effect_count = effects_.size();
+  for (size_t first = 0; first < effect_count;) {
+    size_t last = first + 1;
+    if (effects_[first].desc.type != EffectType::clump)
+      while (last < effect_count && effects_[last].desc.type != EffectType::clump) ++last;
+    const bool ends_stack = last == effect_count;
+    const bool clump_pass = effects_[first].desc.type == EffectType::clump;
+#pragma omp parallel
+    {
+      Scratch scratch;
+#pragma omp for schedule(static)
+      for (int64_t i = 0; i < n; ++i) {
+        const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
+        if (clump_pass) {
+          if (effects_[first].strength[i] != 0.0f) apply_clump(effects_[first], size_t(i), r_strands, pts);
+        } else {
+          bool frame_ready = false;
+          SurfaceFrame posed_frame;
+          for (size_t k = first; k < last; ++k) {
+            const Prepared &e = effects_[k];
+            if (e.strength[i] == 0.0f) continue;
+            if (!frame_ready) {
+              posed_frame = surface_frame(posed_mesh, root_points_[i]);
+              frame_ready = true;
+            }
+            switch (e.desc.type) {
+              case EffectType::clump:
+                break;
+              case EffectType::tension: {
+                const int32_t g = nearest_guide_[i];
+                const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
+                                                 size_t(guides_this_frame.points_in(size_t(g))));
+                const Eigen::Quaternionf rotation =
+                    Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frame.normal());
+                apply_tension(e, size_t(i), guides_this_frame.points(size_t(g)), cum, rotation, pts, scratch);
+                break;
+              }
+              case EffectType::length:
+                apply_length(e, size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
+                break;
+              case EffectType::wave:
+              case EffectType::frizz:
+                apply_noise(e, size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
+                break;
+              case EffectType::curl:
+                apply_curl(e, size_t(i), ids_[i], posed_frame, pts, scratch);
+                break;
+            }
+          }
+        }
+        if (ends_stack) keep_out_of_skin(i, pts);
+      }
+    }
+    first = last;
   }
 }
 

@@ -237,6 +237,7 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
     std::vector<Vector3f> lows, highs;
     std::vector<Eigen::Vector3i> low_cells;
     std::vector<uint32_t> segments, owners;
+    std::vector<std::pair<float, uint32_t>> sweep;
 #pragma omp for schedule(dynamic, 256)
     for (int64_t c = 0; c < busy_cells; ++c) {
       const size_t begin = cell_first[2 * size_t(c)], end = cell_first[2 * size_t(c) + 1], n = end - begin;
@@ -246,8 +247,23 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
       low_cells.resize(n);
       segments.resize(n);
       owners.resize(n);
+      // Sweep along the axis where the boxes are thinnest: sorted by their low end on it, a piece
+      // meets only the pieces that start before its high end there.
+      Vector3f extent = Vector3f::Zero();
       for (size_t u = 0; u < n; ++u) {
         const uint32_t q = uint32_t(entries[begin + u]);
+        extent += piece_high[q] - piece_low[q];
+      }
+      int axis = 0;
+      extent.minCoeff(&axis);
+      sweep.resize(n);
+      for (size_t u = 0; u < n; ++u) {
+        const uint32_t q = uint32_t(entries[begin + u]);
+        sweep[u] = {piece_low[q][axis], q};
+      }
+      std::sort(sweep.begin(), sweep.end());
+      for (size_t u = 0; u < n; ++u) {
+        const uint32_t q = sweep[u].second;
         lows[u] = piece_low[q];
         highs[u] = piece_high[q];
         low_cells[u] = cell_of(lows[u]);
@@ -255,16 +271,17 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
         owners[u] = segment_strand[segments[u]];
       }
       for (size_t u = 0; u < n; ++u) {
-        for (size_t w = u + 1; w < n; ++w) {
+        for (size_t w = u + 1; w < n && lows[w][axis] <= highs[u][axis]; ++w) {
           if (owners[u] == owners[w]) continue;
           ++examined;
           if ((lows[u].array() > highs[w].array()).any() || (lows[w].array() > highs[u].array()).any()) continue;
           if (key_of(low_cells[u].cwiseMax(low_cells[w])) != key) continue;
-          const uint32_t i = segments[u], j = segments[w];
+          // Lower segment first: the distance is then computed exactly as the rule defines it.
+          const uint32_t i = std::min(segments[u], segments[w]), j = std::max(segments[u], segments[w]);
           const Vector3f &a0 = strands.positions[segment_start[i]], &a1 = strands.positions[segment_start[i] + 1];
           const Vector3f &b0 = strands.positions[segment_start[j]], &b1 = strands.positions[segment_start[j] + 1];
           if (segment_distance_squared(a0, a1, b0, b1) > tolerance_squared) continue;
-          const uint32_t sa = owners[u], sb = owners[w];
+          const uint32_t sa = segment_strand[i], sb = segment_strand[j];
           const bool at_root = segment_start[i] == strands.offsets[sa] || segment_start[j] == strands.offsets[sb];
           if (at_root && (strands.positions[size_t(strands.offsets[sa])] - strands.positions[size_t(strands.offsets[sb])])
                                  .norm() < tolerance)

@@ -524,7 +524,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
 #pragma omp parallel
     {
       Scratch scratch;
-#pragma omp for schedule(static)
+#pragma omp for schedule(static, 64)
       for (int64_t i = 0; i < n; ++i) {
         const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
         if (clump_pass) {

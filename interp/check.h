@@ -77,10 +77,11 @@ size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, flo
                            std::vector<uint64_t> &r_examples);
 
 /// Crossing strand pairs: segments are cut into pieces no longer than a cell and binned in a uniform
-/// hash grid (cell = a third of the mean segment length, at least twice the tolerance) by their
-/// bounding boxes grown by tolerance / 2; only pieces sharing a cell are compared, each pair once
-/// (in the cell holding the lowest corner of the overlap of their boxes). Cost grows with the number
-/// of segments times the local density, never with all pairs.
+/// grid (cell = a third of the mean segment length, at least twice the tolerance) by their bounding
+/// boxes grown by tolerance / 2, entries radix-sorted by cell; within a cell a sweep along the
+/// thinnest axis compares only overlapping pieces, each pair once (in the cell holding the lowest
+/// corner of the overlap of their boxes). Cost grows with the number of segments times the local
+/// density, never with all pairs.
 CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t max_examples);
 
 /// (root, guide) slots of `binding` with a non-zero weight whose guide lies in another hard zone than

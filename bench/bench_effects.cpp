@@ -14,6 +14,7 @@
 #include "groom/guides.h"
 #include "groom/mesh.h"
 #include "groom/mesh_query.h"
+#include "groom/test_fixtures.h"
 #include "groom/roots.h"
 #include "interp/effects.h"
 #include "interp/interpolate.h"
@@ -21,31 +22,6 @@
 using namespace plume;
 
 namespace {
-
-Mesh make_sphere(float radius, int rings, int segments) {
-  Mesh mesh;
-  for (int r = 0; r <= rings; ++r) {
-    const float theta = float(M_PI) * float(r) / float(rings);
-    for (int s = 0; s <= segments; ++s) {
-      const float phi = 2.0f * float(M_PI) * float(s) / float(segments);
-      mesh.positions.emplace_back(radius * std::sin(theta) * std::cos(phi), radius * std::cos(theta),
-                                  radius * std::sin(theta) * std::sin(phi));
-      mesh.uvs.emplace_back(float(s) / float(segments), 1.0f - float(r) / float(rings));
-    }
-  }
-  auto index = [&](int r, int s) { return r * (segments + 1) + s; };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s)
-      for (const Eigen::Vector3i &t : {Eigen::Vector3i(index(r, s), index(r, s + 1), index(r + 1, s)),
-                                       Eigen::Vector3i(index(r, s + 1), index(r + 1, s + 1), index(r + 1, s))}) {
-        mesh.triangles.push_back(t);
-        mesh.triangle_uvs.push_back(t);
-      }
-  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
-  mesh.group_names = {"default"};
-  mesh.compute_normals();
-  return mesh;
-}
 
 /// 400 guides of 12 points: out along the normal, combed down (-y) toward the tip.
 StrandSet make_guides(const Mesh &mesh, const Roots &roots) {
@@ -119,7 +95,7 @@ double cpu_seconds() {
 int main(int argc, char **argv) {
   const int strand_count = argc > 1 ? std::atoi(argv[1]) : 100000, points = 32;
   const int repeats = argc > 2 ? std::max(std::atoi(argv[2]), 1) : 7;
-  const Mesh rest = make_sphere(1.0f, 64, 128);
+  const Mesh rest = test::make_sphere(1.0f, 64, 128);
   const MeshQuery rest_query(rest);
   const Roots guide_roots = scatter_roots(rest, 400, 11);
   const Guides guides = bind_guides(rest_query, make_guides(rest, guide_roots), "bench guides");

@@ -13,6 +13,7 @@
 
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
+#include "groom/test_fixtures.h"
 #include "groom/roots.h"
 #include "interp/interpolate.h"
 #include "interp/parting_field.h"
@@ -20,29 +21,6 @@
 using namespace plume;
 
 namespace {
-
-Mesh make_sphere(float radius, int rings, int segments) {
-  Mesh mesh;
-  for (int r = 0; r <= rings; ++r) {
-    const float theta = float(M_PI) * float(r) / float(rings);
-    const float sin_theta = (r == 0 || r == rings) ? 0.0f : std::sin(theta);
-    for (int s = 0; s <= segments; ++s) {
-      const float phi = 2.0f * float(M_PI) * float(s) / float(segments);
-      mesh.positions.emplace_back(radius * sin_theta * std::cos(phi), radius * sin_theta * std::sin(phi),
-                                  radius * std::cos(theta));
-    }
-  }
-  auto index = [&](int r, int s) { return r * (segments + 1) + s; };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      mesh.triangles.emplace_back(index(r, s), index(r + 1, s), index(r, s + 1));
-      mesh.triangles.emplace_back(index(r, s + 1), index(r + 1, s), index(r + 1, s + 1));
-    }
-  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
-  mesh.group_names = {"default"};
-  mesh.compute_normals();
-  return mesh;
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -79,7 +57,7 @@ PartingLine meridian(const std::string &name, float phi, float end) {
 }  // namespace
 
 int main() {
-  const Mesh mesh = make_sphere(1.0f, 96, 192);
+  const Mesh mesh = test::make_sphere(1.0f, 96, 192, test::PoleAxis::z, false);
   const MeshQuery query(mesh);
   std::vector<bool> cap(mesh.triangle_count());
   for (size_t f = 0; f < mesh.triangle_count(); ++f)

@@ -12,6 +12,7 @@
 #include "groom/mesh_query.h"
 #include "groom/roots.h"
 #include "groom/strand_set.h"
+#include "groom/test_fixtures.h"
 #include "interp/interpolate.h"
 
 namespace plume::test {
@@ -28,30 +29,6 @@ inline Mesh make_plane(float size, int cells) {
     for (int i = 0; i < cells; ++i) {
       mesh.triangles.emplace_back(index(i, j), index(i + 1, j), index(i + 1, j + 1));
       mesh.triangles.emplace_back(index(i, j), index(i + 1, j + 1), index(i, j + 1));
-    }
-  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
-  mesh.group_names = {"default"};
-  mesh.compute_normals();
-  return mesh;
-}
-
-/// A UV sphere of `radius` at the origin, outward-facing, z up (poles on the z axis).
-inline Mesh make_sphere(float radius, int rings, int segments) {
-  Mesh mesh;
-  for (int r = 0; r <= rings; ++r) {
-    const float theta = float(M_PI) * float(r) / float(rings);
-    const float sin_theta = (r == 0 || r == rings) ? 0.0f : std::sin(theta);
-    for (int s = 0; s <= segments; ++s) {
-      const float phi = 2.0f * float(M_PI) * float(s) / float(segments);
-      mesh.positions.emplace_back(radius * sin_theta * std::cos(phi), radius * sin_theta * std::sin(phi),
-                                  radius * std::cos(theta));
-    }
-  }
-  auto index = [&](int r, int s) { return r * (segments + 1) + s; };
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      mesh.triangles.emplace_back(index(r, s), index(r + 1, s), index(r, s + 1));
-      mesh.triangles.emplace_back(index(r, s + 1), index(r + 1, s), index(r + 1, s + 1));
     }
   mesh.triangle_groups.assign(mesh.triangles.size(), 0);
   mesh.group_names = {"default"};

@@ -49,7 +49,7 @@ float deviation_by_arc(std::span<const Eigen::Vector3f> strand, std::span<const 
 
 /// Arcs over the northern cap of the unit sphere, bending in various directions; `points` samples.
 struct CapScene {
-  Mesh mesh = make_sphere(1.0f, 32, 64);
+  Mesh mesh = make_sphere(1.0f, 32, 64, PoleAxis::z, false);
   MeshQuery query{mesh};
   Guides guides;
   Roots roots;
@@ -405,7 +405,7 @@ TEST_CASE("degenerate guides and far roots give finite strands, out of the skin"
 }
 
 TEST_CASE("push_out_of_skin leaves no point inside and keeps roots", "[interp]") {
-  const Mesh mesh = make_sphere(1.0f, 24, 48);
+  const Mesh mesh = make_sphere(1.0f, 24, 48, PoleAxis::z, false);
   const MeshQuery query(mesh);
   StrandSet strands;
   for (int i = 0; i < 20; ++i) {

@@ -407,10 +407,12 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   const double *l = rest_length.data() + begin;
   WindField air(settings, time_end);
   auto coupling = [&](int64_t i) { return i < n ? k[i] + std::max(0.0, -tau[i]) / l[i] : 0.0; };
+  const double c_first = coupling(2);
+  double c = c_first;  // coupling of segment j, carried from the previous row
   for (int64_t j = 2; j < n; ++j) {
     const int64_t r = j - 2;
     const double k_next = j + 1 < n ? k[j + 1] : 0.0;
-    const double c = coupling(j), c_next = coupling(j + 1);
+    const double c_next = coupling(j + 1);
     const Vector3d wind = air.at(xs[j]);
     const double a = settings.drag * m[j] * (vs[j] - wind).norm();
     const double gamma = settings.damping * m[j];
@@ -422,8 +424,9 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
     lo[r] = -h2 * c;
     up[r] = -h2 * c_next;
     vel[j] = m[j] * vs[j] + h * force;
+    c = c_next;
   }
-  vel[2] += h2 * coupling(2) * first_velocity;  // the kinematic neighbour's term moves to the right side
+  vel[2] += h2 * c_first * first_velocity;  // the kinematic neighbour's term moves to the right side
   solve_tridiagonal({lo, size_t(rows)}, {di, size_t(rows)}, {up, size_t(rows)}, {vel + 2, size_t(rows)});
 
   // 3. Velocity-level inextensibility at the start directions (see project_velocities); the

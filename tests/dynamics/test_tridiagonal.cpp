@@ -57,13 +57,14 @@ TEST_CASE("tridiagonal solve: long chains whose leading minors leave the double 
     for (size_t i = 0; i < n; ++i) error = std::max(error, std::abs(x[i] - x_true[i]));
     CHECK(std::isfinite(error));
     CHECK(error < 1e-6);
-    // Three right-hand sides at once give the same values as three scalar solves.
+    // Three right-hand sides at once give the values of three scalar solves (to rounding: the
+    // compiler may contract the two paths into multiply-adds differently).
     std::vector<Eigen::Vector3d> x3(n);
     for (size_t i = 0; i < n; ++i) x3[i] = Eigen::Vector3d(rhs[i], -rhs[i], 2.0 * rhs[i]);
     scratch = diag;
     solve_tridiagonal(lower, scratch, upper, x3);
     double difference = 0.0;
     for (size_t i = 0; i < n; ++i) difference = std::max(difference, (x3[i] - Eigen::Vector3d(x[i], -x[i], 2.0 * x[i])).norm());
-    CHECK(difference == 0.0);
+    CHECK(difference < 1e-12);
   }
 }

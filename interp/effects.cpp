@@ -486,46 +486,27 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
 
   // Grown strands are at least skin_margin outside the skin (growth pushes them out), and the signed
   // distance is 1-Lipschitz, sd(p') >= sd(p) - |p' - p|: a point the stack moved by less than the margin
-  // is still outside and is left as it is. Only moved points are looked at, each against the emitter
-  // grid (interp/skin_grid.h), from the cheapest test to the dearest:
-  // - the Lipschitz bound from the last point of the strand whose signed distance is known;
-  // - no crossing since growth: with g the grown point (outside) and p' at unsigned distance >= u (a
-  //   grid bound), the segment g -> p' stays at distance >= (sd(g) + u - |p' - g|) / 2 from the skin,
-  //   so u > |p' - g| proves p' on g's side; u >= margin then puts it outside by the margin. The
-  //   grid's block bound gives u without looking at a triangle;
-  // - a local search from the last closest triangle of the strand (the root's at first): exact, or a
-  //   lower bound u used as above; only when neither decides, a whole-mesh query.
-  // A point found closer than the margin is pushed along the surface normal at its closest point (a
-  // few iterations for concave places), as growth's skin guard does.
+  // is still outside and is skipped. The others go through growth's skin guard (interp/skin_guard.h):
+  // the same Lipschitz bound from the last known point, then the grid's block bound and a local search
+  // started from the last closest triangle (the root's at first), and a push along the normal to the
+  // margin when closer. A skipped point is left as it is, but a copy of it still goes through the
+  // guard: the guard then walks the strand in small steps from the root, as in growth, so its local
+  // searches stay exact and its bound positive (a first moved point far up the strand would otherwise
+  // cost a whole-mesh query).
   const SkinGrid grid(posed_mesh, posed_query);
-  const float overshoot = 1e-6f * mesh_scale(posed_mesh) + 1e-4f * std::max(skin_margin, 0.0f);
+  const float scale = mesh_scale(posed_mesh);
   const float margin_sq = skin_margin * skin_margin;
   auto keep_out_of_skin = [&](int64_t i, std::span<Eigen::Vector3f> pts) {
     const Eigen::Vector3f *grown = grown_positions.data() + r_strands.offsets[i];
-    int hint = root_points_[i].triangle;  // the root never moves and lies on the skin
-    Eigen::Vector3f known_point = pts[0];
-    float known_distance = 0.0f;
+    SkinGuard guard(posed_query, skin_margin, scale, &grid);
+    guard.start(pts[0], root_points_[i].triangle);  // the root never moves and lies on the skin
     for (size_t j = 1; j < pts.size(); ++j) {
-      Eigen::Vector3f &p = pts[j];
-      const float moved_sq = (p - grown[j]).squaredNorm();
-      if (moved_sq < margin_sq) continue;
-      if (known_distance - (p - known_point).norm() >= skin_margin) continue;
-      const float moved = std::sqrt(moved_sq);
-      const float lower = grid.block_lower_bound(p);
-      if (lower >= skin_margin && lower > moved) continue;
-      SurfacePoint closest;
-      float distance = 0.0f;
-      if (!grid.local_signed_distance(p, hint, distance, closest)) {
-        if (distance >= skin_margin && distance > moved) continue;
-        distance = posed_query.signed_distance(p, &closest);
+      if ((pts[j] - grown[j]).squaredNorm() >= margin_sq) {
+        guard.keep_out(pts[j]);
+      } else {
+        Eigen::Vector3f unmoved = pts[j];
+        guard.keep_out(unmoved);
       }
-      for (int iteration = 0; iteration < 4 && distance < skin_margin; ++iteration) {
-        p += (skin_margin - distance + overshoot) * surface_normal(posed_mesh, closest);
-        distance = grid.signed_distance(p, closest.triangle, closest);
-      }
-      hint = closest.triangle;
-      known_point = p;
-      known_distance = distance;
     }
   };
 

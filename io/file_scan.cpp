@@ -97,6 +97,15 @@ std::string_view LineCursor::take_token(std::string_view &rest) {
   return token;
 }
 
+Eigen::Vector3f LineCursor::take_vec3(std::string_view &rest, std::string_view keyword) const {
+  const std::string name(keyword);
+  Eigen::Vector3f p;
+  p.x() = to_float(take_token(rest), name + ": x");
+  p.y() = to_float(take_token(rest), name + ": y");
+  p.z() = to_float(take_token(rest), name + ": z");
+  return p;
+}
+
 float LineCursor::to_float(std::string_view token, std::string_view what) const {
   if (token.empty()) fail(line_.substr(line_.size()), std::string(what) + ": expected a number, got the end of the line");
   float value = 0.0f;

@@ -3,6 +3,7 @@
 // shortest round-trip number formatting.
 #pragma once
 
+#include <Eigen/Core>
 #include <bit>
 #include <charconv>
 #include <cstdint>
@@ -55,6 +56,8 @@ class LineCursor {
   static std::string_view take_token(std::string_view &rest);
   /// Parses a finite float; `what` names the value in the message.
   float to_float(std::string_view token, std::string_view what) const;
+  /// Takes three finite floats from `rest` (an OBJ `v x y z` body); messages say "<keyword>: x" etc.
+  Eigen::Vector3f take_vec3(std::string_view &rest, std::string_view keyword) const;
   /// Parses an integer.
   long long to_int(std::string_view token, std::string_view what) const;
 

@@ -52,11 +52,7 @@ Mesh parse_obj(const std::string &path) {
     if (const size_t hash = rest.find('#'); hash != std::string_view::npos) rest = rest.substr(0, hash);
     const std::string_view keyword = LineCursor::take_token(rest);
     if (keyword == "v") {
-      Eigen::Vector3f p;
-      p.x() = cursor.to_float(LineCursor::take_token(rest), "v: x");
-      p.y() = cursor.to_float(LineCursor::take_token(rest), "v: y");
-      p.z() = cursor.to_float(LineCursor::take_token(rest), "v: z");
-      mesh.positions.push_back(p);
+      mesh.positions.push_back(cursor.take_vec3(rest, "v"));
     } else if (keyword == "vt") {
       Eigen::Vector2f uv(cursor.to_float(LineCursor::take_token(rest), "vt: u"), 0.0f);
       if (const std::string_view v = LineCursor::take_token(rest); !v.empty()) uv.y() = cursor.to_float(v, "vt: v");

@@ -17,11 +17,7 @@ StrandSet read_obj_strands(const std::string &path) {
     if (const size_t hash = rest.find('#'); hash != std::string_view::npos) rest = rest.substr(0, hash);
     const std::string_view keyword = LineCursor::take_token(rest);
     if (keyword == "v") {
-      Eigen::Vector3f p;
-      p.x() = cursor.to_float(LineCursor::take_token(rest), "v: x");
-      p.y() = cursor.to_float(LineCursor::take_token(rest), "v: y");
-      p.z() = cursor.to_float(LineCursor::take_token(rest), "v: z");
-      vertices.push_back(p);
+      vertices.push_back(cursor.take_vec3(rest, "v"));
     } else if (keyword == "l") {
       const size_t line_start = chain.size();
       for (std::string_view token = LineCursor::take_token(rest); !token.empty(); token = LineCursor::take_token(rest)) {

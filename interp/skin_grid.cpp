@@ -161,9 +161,23 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
   return std::sqrt(bound_sq);
 }
 
+void SkinGrid::scan_cell(const Eigen::Vector3f &p, size_t c, float &r_best_sq, int &r_best,
+                         Eigen::Vector3f &r_best_bary) const {
+  for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
+    const int f = cell_triangles_[size_t(i)];
+    const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
+    const float distance_sq =
+        (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
+    if (distance_sq < r_best_sq || (distance_sq == r_best_sq && f < r_best)) {
+      r_best_sq = distance_sq;
+      r_best = f;
+      r_best_bary = bary;
+    }
+  }
+}
+
 float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
   if (hint < 0 || cell_triangles_.empty()) return query_.signed_distance(p, &r_closest);
-  auto vertex = [&](int f, int i) -> const Eigen::Vector3f & { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; };
   Eigen::Vector3f best_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
   int best = hint;
   float best_sq = (p - (best_bary[0] * vertex(hint, 0) + best_bary[1] * vertex(hint, 1) + best_bary[2] * vertex(hint, 2)))
@@ -180,17 +194,7 @@ float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {
         const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
-        for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
-          const int f = cell_triangles_[size_t(i)];
-          const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
-          const float distance_sq =
-              (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
-          if (distance_sq < best_sq || (distance_sq == best_sq && f < best)) {
-            best_sq = distance_sq;
-            best = f;
-            best_bary = bary;
-          }
-        }
+        scan_cell(p, c, best_sq, best, best_bary);
       }
   r_closest.triangle = best;
   r_closest.bary = best_bary;
@@ -205,7 +209,6 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
     r_distance = query_.signed_distance(p, &r_closest);
     return true;
   }
-  auto vertex = [&](int f, int i) -> const Eigen::Vector3f & { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; };
   Eigen::Vector3f best_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
   int best = hint;
   float best_sq = (p - (best_bary[0] * vertex(hint, 0) + best_bary[1] * vertex(hint, 1) + best_bary[2] * vertex(hint, 2)))
@@ -235,17 +238,7 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
         const Eigen::Vector3f outside =
             (box_lo - p).cwiseMax(p - box_lo - Eigen::Vector3f::Constant(cell_size_)).cwiseMax(0.0f);
         if (outside.squaredNorm() > best_sq) continue;
-        for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
-          const int f = cell_triangles_[size_t(i)];
-          const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
-          const float distance_sq =
-              (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
-          if (distance_sq < best_sq || (distance_sq == best_sq && f < best)) {
-            best_sq = distance_sq;
-            best = f;
-            best_bary = bary;
-          }
-        }
+        scan_cell(p, c, best_sq, best, best_bary);
       }
   r_closest.triangle = best;
   r_closest.bary = best_bary;

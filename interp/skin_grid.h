@@ -37,6 +37,11 @@ class SkinGrid {
   float block_lower_bound(const Eigen::Vector3f &p) const;
 
  private:
+  /// Corner i of triangle f.
+  const Eigen::Vector3f &vertex(int f, int i) const { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; }
+  /// Tests the triangles of cell `c` against p, keeping the closest (ties: lowest triangle index).
+  void scan_cell(const Eigen::Vector3f &p, size_t c, float &r_best_sq, int &r_best, Eigen::Vector3f &r_best_bary) const;
+
   const Mesh &mesh_;
   const MeshQuery &query_;
   Eigen::Vector3f origin_;

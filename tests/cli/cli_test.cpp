@@ -146,7 +146,8 @@ TEST_CASE("the output does not depend on the thread count", "[cli]") {
     for (const int threads : {1, 2}) {
       const RunResult run = run_plume("regrow " + quoted(groom) + " --frames 2 --strands 300 --threads " +
                                           std::to_string(threads) + " --out " +
-                                          quoted(scratch / ("t" + std::to_string(threads) + ".####.ply")),
+                                          quoted(scratch / ("t" + std::to_string(threads) + ".####.ply")) +
+                                          " --preview " + quoted(scratch / "p.####.png"),
                                       scratch);
       INFO(run.err);
       REQUIRE(run.exit_code == 0);

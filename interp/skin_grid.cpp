@@ -76,7 +76,6 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
       r_hi[a] = std::clamp(int(std::floor((thi[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
     }
   };
-  auto cell_index = [&](int x, int y, int z) { return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x); };
   cell_offsets_.assign(cell_count + 1, 0);
   Eigen::Vector3i clo, chi;
   for (int pass = 0; pass < 2; ++pass) {
@@ -151,12 +150,9 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {
-        const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+        const size_t c = cell_index(x, y, z);
         if (cell_offsets_[c] == cell_offsets_[c + 1]) continue;
-        const Eigen::Vector3f box_lo = origin_ + cell_size_ * Eigen::Vector3f(float(x), float(y), float(z));
-        const Eigen::Vector3f outside =
-            (box_lo - p).cwiseMax(p - box_lo - Eigen::Vector3f::Constant(cell_size_)).cwiseMax(0.0f);
-        bound_sq = std::min(bound_sq, outside.squaredNorm());
+        bound_sq = std::min(bound_sq, cell_box_distance_sq(p, x, y, z));
       }
   return std::sqrt(bound_sq);
 }
@@ -193,7 +189,7 @@ float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {
-        const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+        const size_t c = cell_index(x, y, z);
         scan_cell(p, c, best_sq, best, best_bary);
       }
   r_closest.triangle = best;
@@ -231,13 +227,10 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {
-        const size_t c = (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+        const size_t c = cell_index(x, y, z);
         if (cell_offsets_[c] == cell_offsets_[c + 1]) continue;
         // Skip a cell whose box is farther than the best distance so far.
-        const Eigen::Vector3f box_lo = origin_ + cell_size_ * Eigen::Vector3f(float(x), float(y), float(z));
-        const Eigen::Vector3f outside =
-            (box_lo - p).cwiseMax(p - box_lo - Eigen::Vector3f::Constant(cell_size_)).cwiseMax(0.0f);
-        if (outside.squaredNorm() > best_sq) continue;
+        if (cell_box_distance_sq(p, x, y, z) > best_sq) continue;
         scan_cell(p, c, best_sq, best, best_bary);
       }
   r_closest.triangle = best;

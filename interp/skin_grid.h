@@ -37,6 +37,15 @@ class SkinGrid {
   float block_lower_bound(const Eigen::Vector3f &p) const;
 
  private:
+  /// Index of cell (x, y, z) in the flat per-cell arrays.
+  size_t cell_index(int x, int y, int z) const {
+    return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+  }
+  /// Squared distance from p to the box of cell (x, y, z); 0 inside it.
+  float cell_box_distance_sq(const Eigen::Vector3f &p, int x, int y, int z) const {
+    const Eigen::Vector3f box_lo = origin_ + cell_size_ * Eigen::Vector3f(float(x), float(y), float(z));
+    return (box_lo - p).cwiseMax(p - box_lo - Eigen::Vector3f::Constant(cell_size_)).cwiseMax(0.0f).squaredNorm();
+  }
   /// Corner i of triangle f.
   const Eigen::Vector3f &vertex(int f, int i) const { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; }
   /// Tests the triangles of cell `c` against p, keeping the closest (ties: lowest triangle index).

@@ -54,12 +54,6 @@ StrandSet read_obj_strands(const std::string &path) {
 void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options) {
   std::string out;
   out.reserve(kWriteBlockBytes + 256);
-  auto flush_if_full = [&] {
-    if (out.size() >= kWriteBlockBytes) {
-      file.write(out);
-      out.clear();
-    }
-  };
   if (!options.comment.empty()) {
     std::string_view rest = options.comment;
     while (!rest.empty()) {
@@ -80,7 +74,7 @@ void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandW
     out += ' ';
     append_number(out, p.z());
     out += '\n';
-    flush_if_full();
+    flush_block_if_full(file, out);
   }
   for (size_t s = 0; s < strands.strand_count(); ++s)
     for (int64_t p = strands.offsets[s] + 1; p < strands.offsets[s + 1]; ++p) {
@@ -89,7 +83,7 @@ void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandW
       out += ' ';
       append_number(out, (long long)p + 1);
       out += '\n';
-      flush_if_full();
+      flush_block_if_full(file, out);
     }
   file.write(out);
 }

@@ -432,15 +432,11 @@ void write_ply(AtomicFile &file, const StrandSet &strands, const StrandWriteOpti
   header += "property int vertex1\nproperty int vertex2\nend_header\n";
   file.write(header);
 
-  std::vector<char> block;
+  std::string block;
   block.reserve(kWriteBlockBytes + 32);
   auto put = [&](const void *data, size_t n) {
-    const char *c = static_cast<const char *>(data);
-    block.insert(block.end(), c, c + n);
-    if (block.size() >= kWriteBlockBytes) {
-      file.write(block.data(), block.size());
-      block.clear();
-    }
+    block.append(static_cast<const char *>(data), n);
+    flush_block_if_full(file, block);
   };
   for (size_t p = 0; p < strands.point_count(); ++p) {
     put(strands.positions[p].data(), 12);
@@ -451,7 +447,7 @@ void write_ply(AtomicFile &file, const StrandSet &strands, const StrandWriteOpti
       const int32_t edge[2] = {int32_t(p), int32_t(p + 1)};
       put(edge, sizeof(edge));
     }
-  file.write(block.data(), block.size());
+  file.write(block);
 }
 
 }  // namespace plume::io::detail

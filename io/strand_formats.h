@@ -19,7 +19,15 @@ void write_ply(AtomicFile &file, const StrandSet &strands, const StrandWriteOpti
 void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
 void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
 
-/// Text is built in a buffer and handed to the file in blocks of about this size.
+/// Output is built in a buffer and handed to the file in blocks of about this size.
 constexpr size_t kWriteBlockBytes = 1 << 20;
+
+/// Hands `block` to `file` and empties it once it holds kWriteBlockBytes or more.
+inline void flush_block_if_full(AtomicFile &file, std::string &block) {
+  if (block.size() >= kWriteBlockBytes) {
+    file.write(block);
+    block.clear();
+  }
+}
 
 }  // namespace plume::io::detail

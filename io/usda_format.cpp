@@ -503,12 +503,6 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
 
   std::string out;
   out.reserve(kWriteBlockBytes + 256);
-  auto flush_if_full = [&] {
-    if (out.size() >= kWriteBlockBytes) {
-      file.write(out);
-      out.clear();
-    }
-  };
   out += "#usda 1.0\n(\n";
   if (!options.comment.empty()) {
     out += "    doc = ";
@@ -538,7 +532,7 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   for (size_t s = 0; s < strand_num; ++s) {
     if (s > 0) out += ", ";
     append_number(out, (long long)strands.points_in(s));
-    flush_if_full();
+    flush_block_if_full(file, out);
   }
   out += "]\n";
 
@@ -558,7 +552,7 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   for (size_t p = 0; p < strands.point_count(); ++p) {
     if (p > 0) out += ", ";
     append_tuple(out, strands.positions[p].data(), 3);
-    flush_if_full();
+    flush_block_if_full(file, out);
   }
   out += options.time_code ? "],\n        }\n" : "]\n";
 
@@ -567,7 +561,7 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
     for (size_t p = 0; p < strands.point_count(); ++p) {
       if (p > 0) out += ", ";
       append_number(out, strands.widths[p]);
-      flush_if_full();
+      flush_block_if_full(file, out);
     }
     out += "] (\n            interpolation = \"vertex\"\n        )\n";
   } else {
@@ -589,7 +583,7 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   for (size_t s = 0; s < strand_num; ++s) {
     if (s > 0) out += ", ";
     append_number(out, (long long)(options.group_ids.empty() ? 0 : options.group_ids[s]));
-    flush_if_full();
+    flush_block_if_full(file, out);
   }
   out += "] (\n            interpolation = \"uniform\"\n        )\n";
 
@@ -597,7 +591,7 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   for (size_t s = 0; s < strand_num; ++s) {
     if (s > 0) out += ", ";
     append_number(out, (long long)strands.ids[s]);
-    flush_if_full();
+    flush_block_if_full(file, out);
   }
   out += "] (\n            interpolation = \"uniform\"\n        )\n";
 
@@ -606,7 +600,7 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
     for (size_t s = 0; s < strand_num; ++s) {
       if (s > 0) out += ", ";
       append_tuple(out, options.root_uvs[s].data(), 2);
-      flush_if_full();
+      flush_block_if_full(file, out);
     }
     out += "] (\n            interpolation = \"uniform\"\n        )\n";
   }

@@ -96,6 +96,7 @@ struct Figure {
   double joint_steps_per_cpu_second;  // process CPU time (all threads): robust on a loaded machine
   double length_error;
   double solves_per_guide_step = 0.0;  // tridiagonal solves per guide and substep (simulator only)
+  double queries_per_joint_step = 0.0;  // exact emitter closest-point queries per joint and substep
 };
 
 double cpu_seconds() {
@@ -127,7 +128,7 @@ Figure run_simulator(const Mesh &head, const std::vector<Mesh> &poses, const Gui
   const double work = double(guides.strands.point_count()) * double(poses.size());
   const double guide_steps = double(sim.work().substeps) * double(guides.size());
   return {work / seconds, work / cpu, max_length_error(x, guides.strands),
-          double(sim.work().tridiagonal_solves) / guide_steps};
+          double(sim.work().tridiagonal_solves) / guide_steps, double(sim.work().emitter_queries) / work};
 }
 
 // Baseline: a position-based chain. Verlet step under gravity, root and first joint carried
@@ -206,12 +207,12 @@ int main() {
   // Wall-clock figures depend on what else runs on the machine; the CPU-time figure times the
   // core count is what the same run would give with the cores to itself.
   const int cores = omp_get_num_procs();
-  std::printf("%-58s %14s %18s %12s %12s %14s\n", "method", "joint-steps/s", "cpu-based x cores", "vs baseline",
-              "length err", "solves/guide/step");
+  std::printf("%-58s %14s %18s %12s %12s %18s %18s\n", "method", "joint-steps/s", "cpu-based x cores",
+              "vs baseline", "length err", "solves/guide/step", "queries/joint-step");
   auto row = [&](const char *name, const Figure &f) {
-    std::printf("%-58s %14.3e %18.3e %12.2f %12.2e %14.2f\n", name, f.joint_steps_per_second,
+    std::printf("%-58s %14.3e %18.3e %12.2f %12.2e %18.2f %18.4f\n", name, f.joint_steps_per_second,
                 f.joint_steps_per_cpu_second * cores, f.joint_steps_per_second / b.joint_steps_per_second,
-                f.length_error, f.solves_per_guide_step);
+                f.length_error, f.solves_per_guide_step, f.queries_per_joint_step);
   };
   row("tridiagonal chain, no collisions (target >= 1e7)", p);
   row("tridiagonal chain, shapes + emitter (target >= 2.5e6)", c);

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <string>
+#include <utility>
 
-#include <Eigen/SVD>
-
+#include "dynamics/rigid_motion.h"
 #include "dynamics/skin_shapes.h"
 #include "dynamics/tridiagonal.h"
 #include "dynamics/wind.h"
@@ -95,9 +96,10 @@ struct GuideSimulator::State {
   std::vector<int64_t> offsets;
   std::vector<SurfacePoint> roots;
 
-  // Per guide: root frames at the previous and the current pose; work of the last substep.
-  std::vector<FramePose> root_from, root_to;
-  std::vector<int64_t> guide_solves, guide_rows;
+  // Per guide: root frames at rest, at the previous and the current pose; work of the last
+  // substep.
+  std::vector<FramePose> root_rest, root_from, root_to;
+  std::vector<int64_t> guide_solves, guide_rows, guide_queries;
 
   // Per joint, fixed after construction.
   std::vector<Vector3d> rest_local;   // rest point in its root's rest surface frame
@@ -105,6 +107,8 @@ struct GuideSimulator::State {
   std::vector<double> mass, inv_mass;  // m_j, w_j (w = 0 for the kinematic joints 0 and 1)
   std::vector<double> stiffness;      // k_i of the segment ending at this joint
   std::vector<double> emitter_margin;  // clearance kept from the emitter; < 0: not tested
+  std::vector<double> rest_clearance;  // signed distance to the rest emitter at rest (if tested)
+  std::vector<SurfacePoint> rest_closest;  // closest rest emitter point at rest (first search hint)
 
   // Per joint, the state.
   std::vector<Vector3d> x, v;
@@ -123,69 +127,87 @@ struct GuideSimulator::State {
   SkinShapes shapes;
   std::vector<FramePose> shape_frames_from, shape_frames_to;
   std::vector<PosedShape> shapes_start, shapes_end;
+  std::vector<Eigen::Vector3f> rest_positions;  // emitter vertices at rest
   Mesh mesh_from, mesh_to, mesh_sub;  // emitter at the previous pose, current pose, substep end
   std::vector<Eigen::Vector3f> sub_start_positions;
-  std::unique_ptr<MeshQuery> query;  // built without a kd-tree start: every query has a hint
-  // The emitter's motion over the current substep as a best-fit rigid motion p -> R p + t plus
-  // the largest vertex departure from it (the non-rigid residual), for the query-skipping bound.
-  Matrix3d skin_rotation = Matrix3d::Identity();
-  Vector3d skin_translation = Vector3d::Zero();
-  double skin_residual = 0.0;
+  // The emitter's search tree on mesh_sub (no kd-tree start: every query has a hint), built by
+  // the first joint of a substep that needs an exact query: once the guides stand clear of the
+  // skin, most substeps need none. query_once is renewed when mesh_sub moves.
+  std::unique_ptr<MeshQuery> query;
+  std::unique_ptr<std::once_flag> query_once;
+  std::exception_ptr query_error;  // a failed build, rethrown after the substep
+  // The emitter's motion over the current substep as a best-fit rigid motion plus the largest
+  // vertex departure from it (the non-rigid residual), for the query-skipping bound.
+  RigidMotion skin_motion;
 
   bool posed = false;
 
   size_t guide_count() const { return roots.size(); }
 
-  void reset_guide(size_t g);
-  void fit_skin_motion();
+  void reset_guide(size_t g, const RigidMotion &from_rest);
+  void pose_roots(const Mesh &posed_mesh);
+  const MeshQuery *emitter_query();
+  void copy_positions(std::vector<Eigen::Vector3f> &r_positions) const;
   void substep_guide(size_t g, double s0, double s1, double h, double time_end);
-  bool collide(int64_t begin, int64_t n, double h);
+  bool collide(int64_t begin, int64_t n, double h, int64_t &r_queries);
   int project_lengths(int64_t begin, int64_t n);
   void project_velocities(int64_t begin, int64_t n, const Eigen::Vector3d &first_velocity, const Eigen::Vector3d *v_in,
                           Eigen::Vector3d *v_out, double *r_lambda);
 };
 
-// Best rigid fit of the emitter's substep motion, sub_start_positions -> mesh_sub.positions
-// (Kabsch: centroids, then the rotation from the SVD of the cross-covariance), and the largest
-// distance of a vertex from where that motion puts it.
-void GuideSimulator::State::fit_skin_motion() {
-  const size_t count = sub_start_positions.size();
-  Vector3d c0 = Vector3d::Zero(), c1 = Vector3d::Zero();
-  for (size_t p = 0; p < count; ++p) {
-    c0 += sub_start_positions[p].cast<double>();
-    c1 += mesh_sub.positions[p].cast<double>();
-  }
-  c0 /= double(count);
-  c1 /= double(count);
-  Matrix3d covariance = Matrix3d::Zero();
-  for (size_t p = 0; p < count; ++p)
-    covariance += (sub_start_positions[p].cast<double>() - c0) * (mesh_sub.positions[p].cast<double>() - c1).transpose();
-  const Eigen::JacobiSVD<Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Matrix3d flip = Matrix3d::Identity();
-  flip(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
-  skin_rotation = svd.matrixV() * flip * svd.matrixU().transpose();
-  skin_translation = c1 - skin_rotation * c0;
-  double residual2 = 0.0;
-  for (size_t p = 0; p < count; ++p) {
-    const Vector3d carried = skin_rotation * sub_start_positions[p].cast<double>() + skin_translation;
-    residual2 = std::max(residual2, (mesh_sub.positions[p].cast<double>() - carried).squaredNorm());
-  }
-  // Float positions: a little slack for their rounding.
-  skin_residual = std::sqrt(residual2) + 1e-5 * (1.0 + c1.norm());
+// The emitter's tree for the current substep, built on first use (thread-safe); null if the
+// build failed (query_error holds why).
+const MeshQuery *GuideSimulator::State::emitter_query() {
+  std::call_once(*query_once, [this] {
+    try {
+      mesh_sub.compute_normals();
+      query = std::make_unique<MeshQuery>(mesh_sub, MeshQuery::Start::hint_only);
+    } catch (...) {
+      query_error = std::current_exception();
+    }
+  });
+  return query.get();
+}
+
+// root_to <- the root frames on `posed_mesh` (a per-guide loop: parallel like the substeps).
+void GuideSimulator::State::pose_roots(const Mesh &posed_mesh) {
+#pragma omp parallel for schedule(static) if (guide_count() >= kParallelGuides)
+  for (int64_t g = 0; g < int64_t(guide_count()); ++g)
+    root_to[size_t(g)] = FramePose::from(surface_frame(posed_mesh, roots[size_t(g)]));
+}
+
+// The float view of the joint positions.
+void GuideSimulator::State::copy_positions(std::vector<Eigen::Vector3f> &r_positions) const {
+  const int64_t count = int64_t(r_positions.size());
+#pragma omp parallel for schedule(static) if (guide_count() >= kParallelGuides)
+  for (int64_t p = 0; p < count; ++p) r_positions[size_t(p)] = x[size_t(p)].cast<float>();
 }
 
 // Sets guide g at rest on the current pose (root_to), and solves compensated gravity.
-void GuideSimulator::State::reset_guide(size_t g) {
+// `from_rest`: the emitter's best rigid motion from rest to the current pose.
+void GuideSimulator::State::reset_guide(size_t g, const RigidMotion &from_rest) {
   const int64_t begin = offsets[g], n = offsets[g + 1] - begin;
   const FramePose &frame = root_to[g];
   for (int64_t j = 0; j < n; ++j) {
     x[begin + j] = frame.to_world(rest_local[begin + j]);
     v[begin + j] = Vector3d::Zero();
     tension[begin + j] = 0.0;
-    query_clearance[begin + j] = -std::numeric_limits<double>::infinity();
     skin_travel[begin + j] = 0.0;
     query_point[begin + j] = x[begin + j];
-    query_closest[begin + j] = roots[g];  // on the skin, near the guide: the first search's hint
+    query_closest[begin + j] = rest_closest[begin + j];
+    // The first emitter clearance without a query. The joint stood rest_clearance outside the
+    // rest emitter; its root frame carried it to x, which the emitter's rigid motion maps back
+    // to a point `shift` away from its rest place, so (distance being 1-Lipschitz, and the skin
+    // within `residual` of the rigidly carried rest skin) it is at least
+    // rest_clearance - shift - residual outside. When that is not above the margin, the first
+    // step queries (the hint, its closest point at rest, is then near the answer).
+    double clearance = -std::numeric_limits<double>::infinity();
+    if (emitter_margin[begin + j] >= 0.0) {
+      const double shift = (x[begin + j] - from_rest.apply(root_rest[g].to_world(rest_local[begin + j]))).norm();
+      const double bound = rest_clearance[begin + j] - shift - from_rest.residual;
+      if (bound > emitter_margin[begin + j]) clearance = bound;
+    }
+    query_clearance[begin + j] = clearance;
   }
   if (n < 3) return;
   const Vector3d gravity = settings.gravity.cast<double>();
@@ -218,8 +240,8 @@ void GuideSimulator::State::reset_guide(size_t g) {
 
 // Pushes the free joints of one guide out of every shape and the emitter, recording for each
 // joint in contact the outward normal, the surface velocity and the friction coefficient.
-// Returns whether any joint was pushed.
-bool GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
+// Returns whether any joint was pushed; counts the exact emitter queries in r_queries.
+bool GuideSimulator::State::collide(int64_t begin, int64_t n, double h, int64_t &r_queries) {
   const double margin = settings.collision_margin;
   bool pushed = false;
   for (int64_t j = begin + 2; j < begin + n; ++j) {
@@ -237,7 +259,7 @@ bool GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
       contact_velocity[j] = velocity_a + axis_param * (velocity_b - velocity_a);
     }
     const double joint_margin = emitter_margin[j];
-    if (!query || joint_margin < 0.0) continue;
+    if (!settings.collide_with_emitter || joint_margin < 0.0) continue;
     // Query skipping. The distance to the surface is 1-Lipschitz in the point, does not change
     // when point and surface move rigidly together, and changes by at most the residual when the
     // surface deforms. query_point is the last queried point carried by the skin's rigid motion
@@ -245,8 +267,11 @@ bool GuideSimulator::State::collide(int64_t begin, int64_t n, double h) {
     // it stays above the margin the query can be skipped.
     const double bound = query_clearance[j] - (x[j] - query_point[j]).norm() - skin_travel[j];
     if (bound > joint_margin) continue;
+    const MeshQuery *tree = emitter_query();
+    if (!tree) return pushed;
     SurfacePoint closest;
-    const double d = query->signed_distance(x[j], query_closest[j], closest);
+    const double d = tree->signed_distance(x[j], query_closest[j], closest);
+    ++r_queries;
     query_closest[j] = closest;
     if (d < joint_margin) {
       const Vector3d normal = surface_normal(mesh_sub, closest).cast<double>();
@@ -365,6 +390,7 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   v[begin] = (root_end - x[begin]) / h;
   guide_solves[g] = 0;
   guide_rows[g] = 0;
+  guide_queries[g] = 0;
   if (n < 3) {
     v[begin + 1] = first_velocity;
     x[begin] = root_end;
@@ -444,10 +470,10 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
     contact_normal[begin + j] = Vector3d::Zero();
     correction[begin + j] = Vector3d::Zero();
   }
-  if (query) {
+  if (settings.collide_with_emitter) {
     for (int64_t j = begin + 2; j < begin + n; ++j) {
-      skin_travel[j] += skin_residual;
-      query_point[j] = skin_rotation * query_point[j] + skin_translation;
+      skin_travel[j] += skin_motion.residual;
+      query_point[j] = skin_motion.apply(query_point[j]);
     }
   }
 
@@ -455,7 +481,7 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   int solves = 2;
   bool pushed = true;
   for (int round = 0; round < kCollisionRounds && pushed; ++round) {
-    pushed = collide(begin, n, h);
+    pushed = collide(begin, n, h, guide_queries[g]);
     solves += project_lengths(begin, n);
   }
 
@@ -503,12 +529,15 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
   st.root_to.resize(guide_num);
   st.guide_solves.assign(guide_num, 0);
   st.guide_rows.assign(guide_num, 0);
+  st.guide_queries.assign(guide_num, 0);
+  st.root_rest.resize(guide_num);
   st.query_closest.assign(joint_num, SurfacePoint{});
+  st.rest_closest.assign(joint_num, SurfacePoint{});
   for (auto *a : {&st.rest_local, &st.x, &st.v, &st.gold, &st.query_point, &st.dir, &st.target, &st.velocity_rhs,
                   &st.correction, &st.contact_normal, &st.contact_velocity})
     a->assign(joint_num, Vector3d::Zero());
   for (auto *a : {&st.rest_length, &st.mass, &st.inv_mass, &st.stiffness, &st.emitter_margin, &st.tension,
-                  &st.query_clearance, &st.skin_travel, &st.lower, &st.diag, &st.upper, &st.scalar_rhs,
+                  &st.query_clearance, &st.rest_clearance, &st.skin_travel, &st.lower, &st.diag, &st.upper, &st.scalar_rhs,
                   &st.contact_friction})
     a->assign(joint_num, 0.0);
 
@@ -522,6 +551,7 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
   for (size_t g = 0; g < guide_num; ++g) {
     const int64_t begin = st.offsets[g], n = st.offsets[g + 1] - begin;
     const FramePose rest_frame = FramePose::from(surface_frame(rest_mesh, st.roots[g]));
+    st.root_rest[g] = rest_frame;
     const auto points = guides.strands.points(g);
     const double length = std::max(guides.strands.length(g), 1e-12);
     const double min_segment = 1e-6 * length;
@@ -546,14 +576,18 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
       // Emitter clearance: the margin, or less for a joint groomed closer to the skin; a joint
       // groomed under the skin is left where the groomer put it.
       double margin = -1.0;
+      st.rest_closest[begin + i] = st.roots[g];
       if (rest_query && i >= 2) {
-        const double d = rest_query->signed_distance(points[i]);
+        const double d = rest_query->signed_distance(points[i], &st.rest_closest[begin + i]);
         if (d >= 0.0) margin = std::min(double(settings.collision_margin), d);
+        // The float distance, less a slack for its rounding at this coordinate magnitude.
+        st.rest_clearance[begin + i] = d - 1e-5 * (1.0 + double(points[i].norm()));
       }
       st.emitter_margin[begin + i] = margin;
     }
   }
   st.shapes = SkinShapes(rest_mesh, settings.shapes);
+  st.rest_positions = rest_mesh.positions;
   view_ = guides.strands;
 }
 
@@ -564,20 +598,24 @@ std::span<const Eigen::Vector3d> GuideSimulator::velocities() const { return sta
 
 void GuideSimulator::reset(const Mesh &posed_mesh) {
   State &st = *state_;
-  for (size_t g = 0; g < st.guide_count(); ++g) {
-    st.root_to[g] = FramePose::from(surface_frame(posed_mesh, st.roots[g]));
-    st.root_from[g] = st.root_to[g];
-  }
+  if (posed_mesh.vertex_count() != st.rest_positions.size())
+    throw InputError("dynamics: the posed mesh has " + std::to_string(posed_mesh.vertex_count()) +
+                     " vertices, expected " + std::to_string(st.rest_positions.size()));
+  st.pose_roots(posed_mesh);
+  st.root_from = st.root_to;
+  const RigidMotion from_rest =
+      st.settings.collide_with_emitter ? fit_rigid_motion(st.rest_positions, posed_mesh.positions) : RigidMotion{};
 #pragma omp parallel for schedule(dynamic, 64) if (st.guide_count() >= kParallelGuides)
-  for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) st.reset_guide(size_t(g));
+  for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) st.reset_guide(size_t(g), from_rest);
   st.mesh_to = posed_mesh;
   st.mesh_sub = posed_mesh;
   st.sub_start_positions = posed_mesh.positions;
   st.query.reset();
+  st.query_once.reset();
   st.shapes.frames(posed_mesh, st.shape_frames_to);
   st.posed = true;
   time_ = 0.0;
-  for (size_t p = 0; p < view_.positions.size(); ++p) view_.positions[p] = st.x[p].cast<float>();
+  st.copy_positions(view_.positions);
 }
 
 void GuideSimulator::step_frame(const Mesh &posed_mesh) {
@@ -588,8 +626,7 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
                      " vertices, expected " + std::to_string(st.mesh_to.vertex_count()));
   std::swap(st.mesh_from, st.mesh_to);
   st.mesh_to = posed_mesh;
-  st.root_from.swap(st.root_to);
-  for (size_t g = 0; g < st.guide_count(); ++g) st.root_to[g] = FramePose::from(surface_frame(posed_mesh, st.roots[g]));
+  st.root_from.swap(st.root_to);  // root_to is posed by each guide in its first substep
   st.shape_frames_from.swap(st.shape_frames_to);
   st.shapes.frames(posed_mesh, st.shape_frames_to);
 
@@ -608,31 +645,34 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
         st.mesh_sub.positions[p] = st.mesh_from.positions[p] + float(s1) * (st.mesh_to.positions[p] - st.mesh_from.positions[p]);
         move2 = std::max(move2, double((st.mesh_sub.positions[p] - st.sub_start_positions[p]).squaredNorm()));
       }
-      if (move2 > 0.0) {
-        st.fit_skin_motion();
-      } else {
-        st.skin_rotation = Matrix3d::Identity();
-        st.skin_translation = Vector3d::Zero();
-        st.skin_residual = 0.0;
-      }
+      st.skin_motion = move2 > 0.0 ? fit_rigid_motion(st.sub_start_positions, st.mesh_sub.positions) : RigidMotion{};
       // A still emitter (a held pose, a pre-roll) keeps its tree.
-      if (move2 > 0.0 || !st.query) {
-        st.mesh_sub.compute_normals();
-        st.query = std::make_unique<MeshQuery>(st.mesh_sub, MeshQuery::Start::hint_only);
+      if (move2 > 0.0 || !st.query_once) {
+        st.query.reset();
+        st.query_once = std::make_unique<std::once_flag>();
       }
     }
     const double time_end = time_ + (s + 1) * h;
 #pragma omp parallel for schedule(dynamic, 64) if (st.guide_count() >= kParallelGuides)
-    for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) st.substep_guide(size_t(g), s0, s1, h, time_end);
+    for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) {
+      // The per-frame work of a guide rides in the substeps' parallel loop (one parallel region
+      // per substep): its root frame on the new pose first, its float view last.
+      if (s == 0) st.root_to[size_t(g)] = FramePose::from(surface_frame(st.mesh_to, st.roots[size_t(g)]));
+      st.substep_guide(size_t(g), s0, s1, h, time_end);
+      if (s + 1 == substeps)
+        for (int64_t p = st.offsets[size_t(g)]; p < st.offsets[size_t(g) + 1]; ++p)
+          view_.positions[size_t(p)] = st.x[size_t(p)].cast<float>();
+    }
+    if (st.query_error) std::rethrow_exception(std::exchange(st.query_error, nullptr));
     ++work_.substeps;
     for (size_t g = 0; g < st.guide_count(); ++g) {
       work_.tridiagonal_solves += st.guide_solves[g];
       work_.tridiagonal_rows += st.guide_rows[g];
+      work_.emitter_queries += st.guide_queries[g];
       work_.joint_updates += std::max<int64_t>(0, st.offsets[g + 1] - st.offsets[g] - 2);
     }
   }
   time_ += frame_time;
-  for (size_t p = 0; p < view_.positions.size(); ++p) view_.positions[p] = st.x[p].cast<float>();
 }
 
 }  // namespace plume::dynamics

@@ -22,6 +22,8 @@ struct SimulationWork {
   int64_t tridiagonal_solves = 0;  // one per guide per substep (plus post-stabilisation solves)
   int64_t tridiagonal_rows = 0;    // rows eliminated by those solves (one per segment)
   int64_t joint_updates = 0;       // joints integrated
+  int64_t emitter_queries = 0;     // exact closest-point queries of the emitter (the rest are
+                                   // skipped by a conservative clearance bound)
 };
 
 class GuideSimulator {

@@ -7,6 +7,7 @@
 #include "dynamics/guide_simulator.h"
 #include "dynamics/skin_shapes.h"
 #include "groom/error.h"
+#include "groom/mesh_query.h"
 
 using namespace plume;
 using plume::dynamics::GuideSimulator;
@@ -224,6 +225,66 @@ TEST_CASE("no guide point is inside the head or a collision shape after any step
     INFO("substeps " << substeps << ": deepest " << deepest << ", motion over the last frames " << jitter);
     CHECK(deepest >= 0.0);
     CHECK(jitter < 1e-3);
+    CHECK(test::max_length_error(sim.positions(), guides.strands) <= 1e-6);
+  }
+}
+
+TEST_CASE("guides standing clear of the skin start without exact emitter queries", "[dynamics]") {
+  // Reset on a turned and shifted head: the rest clearances, carried by the skin's rigid motion,
+  // prove every joint clear of the emitter, so the first frames need no closest-point query.
+  const Mesh head = test::sphere_mesh(kHeadRadius);
+  const Guides guides = test::sphere_guides(head, kHeadRadius, head_directions(), 12, 15.0f, 0.6f);
+  const MeshQuery rest_query(head);
+  double nearest = 1e30;
+  for (size_t g = 0; g < guides.size(); ++g)
+    for (int64_t j = guides.strands.offsets[g] + 2; j < guides.strands.offsets[g + 1]; ++j)
+      nearest = std::min(nearest, double(rest_query.signed_distance(guides.strands.positions[j])));
+  REQUIRE(nearest > 0.5);  // the scene: every free joint well clear of the skin at rest
+  DynamicsSettings settings = test::quiet_settings(2);
+  settings.collide_with_emitter = true;
+  const Mesh posed = test::moved_mesh(head, 1.1f, Eigen::Vector3f(4.0f, -3.0f, 1.0f));
+  GuideSimulator sim(head, guides, settings);
+  sim.reset(posed);
+  for (int frame = 0; frame < 3; ++frame) sim.step_frame(posed);
+  CHECK(sim.work().emitter_queries == 0);
+}
+
+TEST_CASE("a skin that moves into the guides at the first frame still pushes them out", "[dynamics]") {
+  // The first pose is the rest head with a bulge below: joints of guides hanging over it are
+  // inside the posed skin. The reset bound must not skip them: after one step none is inside.
+  const Mesh head = test::sphere_mesh(kHeadRadius, Eigen::Vector3f::Zero(), 24, 32);
+  const Guides guides = test::sphere_guides(
+      head, kHeadRadius, {{1.0f, 0.3f, 0.0f}, {-1.0f, 0.2f, 0.3f}, {0.2f, 0.3f, 1.0f}, {0.3f, 0.2f, -1.0f}}, 16, 16.0f,
+      3.5f);
+  Mesh posed = head;
+  for (size_t v = 0; v < posed.positions.size(); ++v) {
+    const float y = head.positions[v].y();
+    const float bulge = y < 1.0f ? 6.0f * std::min(1.0f, (1.0f - y) / 3.0f) : 0.0f;
+    posed.positions[v] += bulge * head.vertex_normals[v];
+  }
+  posed.compute_normals();
+  const MeshQuery posed_query(posed);
+  auto deepest = [&](std::span<const Eigen::Vector3d> x) {
+    double worst = 1e30;
+    for (size_t g = 0; g < guides.size(); ++g)
+      for (int64_t j = guides.strands.offsets[g] + 2; j < guides.strands.offsets[g + 1]; ++j) {
+        SurfacePoint closest;
+        worst = std::min(worst, posed_query.signed_distance(x[j], posed_query.closest(x[j].cast<float>()), closest));
+      }
+    return worst;
+  };
+  std::vector<Eigen::Vector3d> rest_points;
+  for (const Eigen::Vector3f &p : guides.strands.positions) rest_points.push_back(p.cast<double>());
+  REQUIRE(deepest(rest_points) < -0.5);  // the scene: some joints start well inside the bulge
+  for (int substeps : {1, 3}) {
+    DynamicsSettings settings = test::quiet_settings(substeps);
+    settings.collide_with_emitter = true;
+    GuideSimulator sim(head, guides, settings);
+    sim.reset(posed);
+    sim.step_frame(posed);
+    INFO("substeps " << substeps);
+    CHECK(deepest(sim.positions()) >= 0.0);
+    CHECK(sim.work().emitter_queries > 0);
     CHECK(test::max_length_error(sim.positions(), guides.strands) <= 1e-6);
   }
 }

@@ -295,7 +295,8 @@ struct StreamlineField {
 }  // namespace
 
 void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
-          const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands) {
+          const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands,
+          std::vector<float> *r_clearance) {
   const int n = options.points_per_strand;
   if (n < 2) throw InputError("points_per_strand: expected at least 2, got " + std::to_string(n));
   if (roots.size() != binding.root_count())
@@ -315,11 +316,17 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const InterpolationSettings &settings = binding.settings;
   const int k = binding.k;
   const float scale = mesh_scale(mesh);
+  const bool streamline = settings.method == InterpolationSettings::Method::streamline;
   std::unique_ptr<SkinGrid> skin_grid;
-  if (settings.method == InterpolationSettings::Method::streamline) skin_grid = std::make_unique<SkinGrid>(mesh, query);
+  if (streamline) skin_grid = std::make_unique<SkinGrid>(mesh, query);
 
   r_strands.resize_uniform(roots.size(), n, options.with_widths);
   r_strands.ids = roots.ids;
+  if (r_clearance) {
+    r_clearance->clear();
+    if (streamline) r_clearance->resize(r_strands.positions.size());
+  }
+  float *const clearance = r_clearance && streamline ? r_clearance->data() : nullptr;
   if (options.with_widths)
     for (size_t r = 0; r < roots.size(); ++r)
       for (int i = 0; i < n; ++i)
@@ -423,6 +430,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     }
     Eigen::Vector3f direction = unit_or(seed, normal);
     points[1] = advance(points[0], direction);
+    if (clearance) {
+      clearance[r * n] = guard.lower_bound(points[0]);
+      clearance[r * n + 1] = guard.lower_bound(points[1]);
+    }
     direction = unit_or(points[1] - points[0], direction);
     // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
     // Where the nearest guide is closer than half a step (but not on it), the field turns faster than
@@ -446,6 +457,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       }
       points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
       direction = unit_or(points[i + 1] - points[i], last_direction);
+      if (clearance) clearance[r * n + i + 1] = guard.lower_bound(points[i + 1]);
     }
   }
 

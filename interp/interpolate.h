@@ -78,8 +78,12 @@ struct GrowOptions {
 /// Output: r_strands gets roots.size() strands of options.points_per_strand points, ids = roots.ids.
 /// Runs in parallel (OpenMP, static schedule); the output is identical for any thread count and
 /// never holds NaN. Throws InputError when the roots or guides do not match the binding.
+/// `r_clearance` (may be null): streamline growth fills it with one lower bound per output point of
+/// that point's signed distance to the skin (what the skin push-out proved, at no extra cost), so
+/// later passes that move points by less than that need no query; fur and linear leave it empty.
 void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
-          const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands);
+          const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands,
+          std::vector<float> *r_clearance = nullptr);
 
 /// Pushes points out of the skin: a point whose signed distance is below `margin` (scene units)
 /// moves out along the surface normal at its closest point until it is at least ~margin outside.

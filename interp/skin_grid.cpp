@@ -77,6 +77,12 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
     }
   };
   cell_offsets_.assign(cell_count + 1, 0);
+  auto bounding_sphere = [&](size_t f) {
+    const Eigen::Vector3f centre = (vertex(int(f), 0) + vertex(int(f), 1) + vertex(int(f), 2)) / 3.0f;
+    float radius_sq = 0.0f;
+    for (int i = 0; i < 3; ++i) radius_sq = std::max(radius_sq, (vertex(int(f), i) - centre).squaredNorm());
+    return CellTriangle{centre, std::sqrt(radius_sq), int32_t(f)};
+  };
   Eigen::Vector3i clo, chi;
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<int32_t> fill;
@@ -95,7 +101,7 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
             if (pass == 0)
               ++cell_offsets_[c + 1];
             else
-              cell_triangles_[size_t(fill[c]++)] = int32_t(f);
+              cell_triangles_[size_t(fill[c]++)] = bounding_sphere(f);
           }
     }
   }
@@ -157,10 +163,53 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
   return std::sqrt(bound_sq);
 }
 
+bool SkinGrid::hint_distance(const Eigen::Vector3f &p, int hint, Eigen::Vector3f &r_bary, float &r_distance_sq) const {
+  if (hint < 0 || size_t(hint) >= mesh_.triangle_count() || cell_triangles_.empty()) return false;
+  r_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
+  r_distance_sq = (p - (r_bary[0] * vertex(hint, 0) + r_bary[1] * vertex(hint, 1) + r_bary[2] * vertex(hint, 2)))
+                      .squaredNorm();
+  // A degenerate triangle (not in the grid) gives no usable distance.
+  return r_bary.allFinite() && std::isfinite(r_distance_sq);
+}
+
+bool SkinGrid::clear_within(const Eigen::Vector3f &p, float radius) const {
+  if (cell_triangles_.empty()) return true;
+  Eigen::Vector3i lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::clamp(int(std::floor((p[a] - radius - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+    hi[a] = std::clamp(int(std::floor((p[a] + radius - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+  }
+  const Eigen::Vector3i span = hi - lo + Eigen::Vector3i::Ones();
+  if (span.x() * span.y() * span.z() > 27) return false;
+  const float radius_sq = radius * radius;
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) {
+        const size_t c = cell_index(x, y, z);
+        if (cell_offsets_[c] == cell_offsets_[c + 1] || cell_box_distance_sq(p, x, y, z) >= radius_sq) continue;
+        for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
+          const CellTriangle &entry = cell_triangles_[size_t(i)];
+          const float far = entry.radius + radius;
+          if ((p - entry.centre).squaredNorm() >= far * far) continue;
+          const int f = entry.triangle;
+          const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
+          if ((p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm() < radius_sq)
+            return false;
+        }
+      }
+  return true;
+}
+
 void SkinGrid::scan_cell(const Eigen::Vector3f &p, size_t c, float &r_best_sq, int &r_best,
                          Eigen::Vector3f &r_best_bary) const {
+  // A triangle whose bounding sphere is farther than the best distance cannot be closer (nor tie: the
+  // slack keeps rounding from rejecting a triangle at the same distance).
+  float reach = std::sqrt(r_best_sq) * 1.0001f;
   for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
-    const int f = cell_triangles_[size_t(i)];
+    const CellTriangle &entry = cell_triangles_[size_t(i)];
+    const float far = entry.radius + reach;
+    if ((p - entry.centre).squaredNorm() > far * far) continue;
+    const int f = entry.triangle;
     const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
     const float distance_sq =
         (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
@@ -168,16 +217,16 @@ void SkinGrid::scan_cell(const Eigen::Vector3f &p, size_t c, float &r_best_sq, i
       r_best_sq = distance_sq;
       r_best = f;
       r_best_bary = bary;
+      reach = std::sqrt(r_best_sq) * 1.0001f;
     }
   }
 }
 
 float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
-  if (hint < 0 || cell_triangles_.empty()) return query_.signed_distance(p, &r_closest);
-  Eigen::Vector3f best_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
+  Eigen::Vector3f best_bary;
+  float best_sq = 0.0f;
+  if (!hint_distance(p, hint, best_bary, best_sq)) return query_.signed_distance(p, &r_closest);
   int best = hint;
-  float best_sq = (p - (best_bary[0] * vertex(hint, 0) + best_bary[1] * vertex(hint, 1) + best_bary[2] * vertex(hint, 2)))
-                      .squaredNorm();
   const float radius = std::sqrt(best_sq);
   Eigen::Vector3i lo, hi;
   for (int a = 0; a < 3; ++a) {
@@ -201,14 +250,13 @@ float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint
 
 bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &r_distance,
                                      SurfacePoint &r_closest) const {
-  if (hint < 0 || cell_triangles_.empty()) {
+  Eigen::Vector3f best_bary;
+  float best_sq = 0.0f;
+  if (!hint_distance(p, hint, best_bary, best_sq)) {
     r_distance = query_.signed_distance(p, &r_closest);
     return true;
   }
-  Eigen::Vector3f best_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
   int best = hint;
-  float best_sq = (p - (best_bary[0] * vertex(hint, 0) + best_bary[1] * vertex(hint, 1) + best_bary[2] * vertex(hint, 2)))
-                      .squaredNorm();
   const float radius = std::sqrt(best_sq);
   // The ball of the hint's distance, clipped to the cells next to p's cell. `gap`: how far p is from
   // the faces where the clip cut the ball; triangles beyond them are at least that far.
@@ -224,11 +272,17 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
     if (ball_lo < lo[a]) gap = std::min(gap, (local - float(lo[a])) * cell_size_);
     if (ball_hi > hi[a]) gap = std::min(gap, (float(hi[a] + 1) - local) * cell_size_);
   }
+  // p's own cell first (when in the block): its triangles are usually the nearest, and a small best
+  // distance early lets the box and sphere tests skip most of the rest.
+  Eigen::Vector3i own;
+  for (int a = 0; a < 3; ++a) own[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+  const bool own_in_block = (own.array() >= lo.array()).all() && (own.array() <= hi.array()).all();
+  if (own_in_block) scan_cell(p, cell_index(own.x(), own.y(), own.z()), best_sq, best, best_bary);
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {
         const size_t c = cell_index(x, y, z);
-        if (cell_offsets_[c] == cell_offsets_[c + 1]) continue;
+        if (cell_offsets_[c] == cell_offsets_[c + 1] || (own_in_block && Eigen::Vector3i(x, y, z) == own)) continue;
         // Skip a cell whose box is farther than the best distance so far.
         if (cell_box_distance_sq(p, x, y, z) > best_sq) continue;
         scan_cell(p, c, best_sq, best, best_bary);

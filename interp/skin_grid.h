@@ -28,6 +28,10 @@ class SkinGrid {
   /// unsigned distance (the distance from p to the searched block's cut faces, at least p's
   /// distance to its own cell's faces) and no sign. Never queries the whole mesh.
   bool local_signed_distance(const Eigen::Vector3f &p, int hint, float &r_distance, SurfacePoint &r_closest) const;
+  /// True when no triangle is closer than `radius` to p: a search of the cells the ball touches,
+  /// stopping at the first triangle inside it (false, too, when the ball spans more than 27 cells).
+  /// Far cheaper than a distance query when only "at least this far" is needed.
+  bool clear_within(const Eigen::Vector3f &p, float radius) const;
   /// A lower bound of the (unsigned) distance from p to the surface, from the chessboard distance
   /// of p's cell to the nearest cell holding a triangle: (k - 1) * cell size. No search.
   float distance_lower_bound(const Eigen::Vector3f &p) const;
@@ -48,6 +52,9 @@ class SkinGrid {
   }
   /// Corner i of triangle f.
   const Eigen::Vector3f &vertex(int f, int i) const { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; }
+  /// Closest point of triangle `hint` to p and its squared distance; false when there is no hint, or
+  /// the hint is degenerate (then the caller queries the whole mesh).
+  bool hint_distance(const Eigen::Vector3f &p, int hint, Eigen::Vector3f &r_bary, float &r_distance_sq) const;
   /// Tests the triangles of cell `c` against p, keeping the closest (ties: lowest triangle index).
   void scan_cell(const Eigen::Vector3f &p, size_t c, float &r_best_sq, int &r_best, Eigen::Vector3f &r_best_bary) const;
 
@@ -56,9 +63,16 @@ class SkinGrid {
   Eigen::Vector3f origin_;
   float cell_size_ = 1.0f;
   Eigen::Vector3i dims_;
+  /// A triangle as a cell lists it, with a bounding sphere so that most triangles of a scanned cell
+  /// are rejected without the closest-point computation.
+  struct CellTriangle {
+    Eigen::Vector3f centre;  // centroid
+    float radius;            // largest distance from the centroid to a corner
+    int32_t triangle;
+  };
   /// CSR: triangles of cell c are cell_triangles_[cell_offsets_[c] .. cell_offsets_[c + 1]).
   std::vector<int32_t> cell_offsets_;
-  std::vector<int32_t> cell_triangles_;
+  std::vector<CellTriangle> cell_triangles_;
   /// Per cell: chessboard distance (in cells, capped at 255) to the nearest cell holding a triangle.
   std::vector<uint8_t> cell_distance_;
 };

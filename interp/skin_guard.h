@@ -36,6 +36,16 @@ class SkinGuard {
     hint_ = closest.triangle;
   }
 
+  /// Records that `p` is at least `lower_bound` (signed distance) from the skin, known without a
+  /// query (e.g. from an earlier bound and how far p has moved since); the last closest triangle is
+  /// kept as the next search's hint.
+  void know(const Eigen::Vector3f &p, float lower_bound) {
+    known_point_ = p;
+    known_distance_ = lower_bound;
+  }
+  /// A lower bound of the signed distance at `p` from what the guard knows (1-Lipschitz bound).
+  float lower_bound(const Eigen::Vector3f &p) const { return known_distance_ - (p - known_point_).norm(); }
+
   /// Moves `p` out along the surface normal if its signed distance is below the margin (a few
   /// iterations for concave places, where one move along the normal falls short).
   void keep_out(Eigen::Vector3f &p) {
@@ -43,11 +53,24 @@ class SkinGuard {
     if (known_distance_ - moved >= margin_) return;
     // Far from every triangle (grid bound) and no way to have crossed the skin since the last known
     // outside point: along q -> p the distance stays above (sd(q) + lower - moved) / 2 > 0.
-    const float lower = grid_ ? std::max(grid_->distance_lower_bound(p), grid_->block_lower_bound(p)) : 0.0f;
-    if (lower >= margin_ && known_distance_ > 0.0f && known_distance_ + lower > moved) {
+    auto clears = [&](float lower) { return lower >= margin_ && known_distance_ > 0.0f && known_distance_ + lower > moved; };
+    float lower = grid_ ? grid_->distance_lower_bound(p) : 0.0f;
+    if (grid_ && !clears(lower)) lower = std::max(lower, grid_->block_lower_bound(p));
+    if (clears(lower)) {
       known_point_ = p;
       known_distance_ = lower;
       return;
+    }
+    // Only "p is outside by the margin" is needed, not p's distance: a ball of radius R >= margin with
+    // sd(q) + R > moved and no triangle in it proves it, as above. Twice the least such R leaves some
+    // room for the next points.
+    if (grid_ && known_distance_ > 0.0f) {
+      const float radius = 2.0f * std::max(margin_, moved - known_distance_);
+      if (clears(radius) && grid_->clear_within(p, radius)) {
+        known_point_ = p;
+        known_distance_ = radius;
+        return;
+      }
     }
     SurfacePoint closest;
     float distance = 0.0f;
@@ -55,7 +78,7 @@ class SkinGuard {
       // A search of the cells next to p is exact, or proves p at least `distance` from the skin: then,
       // as above, p is outside by the margin if it cannot have crossed since the last known point.
       if (!grid_->local_signed_distance(p, hint_, distance, closest)) {
-        if (distance >= margin_ && known_distance_ > 0.0f && known_distance_ + distance > moved) {
+        if (clears(distance)) {
           hint_ = closest.triangle;
           known_point_ = p;
           known_distance_ = distance;

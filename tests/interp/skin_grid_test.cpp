@@ -1,0 +1,113 @@
+// The skin grid's searches and bounds against exact distances, and growth's per-point clearance.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "groom/guides.h"
+#include "groom/mesh_query.h"
+#include "groom/roots.h"
+#include "groom/test_fixtures.h"
+#include "interp/interpolate.h"
+#include "interp/skin_grid.h"
+
+using namespace plume;
+
+namespace {
+
+/// Points scattered in a shell around the unit sphere (radii 0.6 to 1.4), hashed so the test is fixed.
+std::vector<Eigen::Vector3f> shell_points(int count) {
+  std::vector<Eigen::Vector3f> points;
+  for (int k = 0; k < count; ++k) {
+    const uint64_t h = hash64(uint64_t(k));
+    const Eigen::Vector3f direction =
+        Eigen::Vector3f(hash_to_unit(h) - 0.5f, hash_to_unit(hash64(h)) - 0.5f, hash_to_unit(hash64(h + 1)) - 0.5f)
+            .normalized();
+    points.push_back(direction * (0.6f + 0.8f * hash_to_unit(hash64(h + 2))));
+  }
+  return points;
+}
+
+/// Guides out along the normal and combed down (-y) so that the strands lie close to the skin.
+StrandSet combed_guides(const Mesh &mesh, const Roots &roots) {
+  StrandSet guides;
+  std::vector<Eigen::Vector3f> pts(12);
+  for (size_t g = 0; g < roots.size(); ++g) {
+    const SurfaceFrame f = surface_frame(mesh, roots.points[g]);
+    Eigen::Vector3f p = f.origin;
+    for (int j = 0; j < 12; ++j) {
+      pts[size_t(j)] = p;
+      const float t = float(j) / 11.0f;
+      p += 0.06f * (f.normal() * (1.0f - t) - Eigen::Vector3f::UnitY() * t + 0.3f * f.basis.col(0)).normalized();
+    }
+    guides.append(pts, roots.ids[g]);
+  }
+  return guides;
+}
+
+}  // namespace
+
+TEST_CASE("skin grid: exact searches agree with the tree, bounds never exceed the distance", "[interp]") {
+  const Mesh mesh = test::make_sphere(1.0f, 24, 48);
+  const MeshQuery query(mesh);
+  const interp::SkinGrid grid(mesh, query);
+  int exact_local = 0, clear_true = 0, clear_false = 0;
+  for (const Eigen::Vector3f &p : shell_points(3000)) {
+    SurfacePoint truth;
+    const float exact = query.signed_distance(p, &truth);
+    // A hint a few triangles away from the true closest one.
+    const int hint = (truth.triangle + 7) % int(mesh.triangle_count());
+    SurfacePoint closest;
+    CHECK(grid.signed_distance(p, hint, closest) == Approx(exact).margin(1e-5));
+    float local = 0.0f;
+    if (grid.local_signed_distance(p, truth.triangle, local, closest)) {
+      CHECK(local == Approx(exact).margin(1e-5));
+      ++exact_local;
+    } else {
+      CHECK(local <= std::abs(exact) + 1e-5f);
+    }
+    CHECK(grid.distance_lower_bound(p) <= std::abs(exact) + 1e-5f);
+    CHECK(grid.block_lower_bound(p) <= std::abs(exact) + 1e-5f);
+    for (const float radius : {0.01f, 0.05f, 0.2f}) {
+      const bool clear = grid.clear_within(p, radius);
+      // Clear proves the distance; not clear must hold whenever a triangle is inside the ball.
+      if (clear) CHECK(std::abs(exact) >= radius - 1e-5f);
+      if (std::abs(exact) < radius - 1e-5f) CHECK_FALSE(clear);
+      (clear ? clear_true : clear_false) += 1;
+    }
+  }
+  // Both outcomes of each search were exercised.
+  CHECK(exact_local > 100);
+  CHECK(clear_true > 100);
+  CHECK(clear_false > 100);
+}
+
+TEST_CASE("streamline growth's clearance is a lower bound of every point's distance to the skin", "[interp]") {
+  const Mesh mesh = test::make_sphere(1.0f, 32, 64);
+  const MeshQuery query(mesh);
+  const Roots guide_roots = scatter_roots(mesh, 60, 11);
+  const Guides guides = bind_guides(query, combed_guides(mesh, guide_roots), "combed");
+  const Roots roots = scatter_roots(mesh, 2000, 3);
+  InterpolationSettings settings;
+  settings.skin_margin = 0.01f;
+  interp::GrowOptions options;
+  options.points_per_strand = 16;
+  StrandSet strands;
+  std::vector<float> clearance;
+  const interp::Binding binding = interp::bind(mesh, guides, roots, settings);
+  interp::grow(binding, mesh, query, roots, guides.strands, options, strands, &clearance);
+  REQUIRE(clearance.size() == strands.positions.size());
+  int near_skin = 0;
+  for (size_t i = 0; i < strands.positions.size(); ++i) {
+    const float exact = query.signed_distance(strands.positions[i]);
+    CHECK(clearance[i] <= exact + 1e-5f);
+    if (i % 16 != 0) CHECK(clearance[i] >= settings.skin_margin * (1.0f - 1e-3f));
+    near_skin += exact < 0.05f;
+  }
+  // The combed strands run close to the skin, where the bound matters.
+  CHECK(near_skin > 1000);
+
+  settings.method = InterpolationSettings::Method::fur;
+  const interp::Binding fur = interp::bind(mesh, guides, roots, settings);
+  interp::grow(fur, mesh, query, roots, guides.strands, options, strands, &clearance);
+  CHECK(clearance.empty());
+}

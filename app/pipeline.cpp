@@ -197,9 +197,10 @@ FrameResult Pipeline::produce(int frame) {
   grow_options.width_root = groom_.width_root;
   grow_options.width_tip = groom_.width_tip;
   grow_options.with_widths = true;
-  interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands);
-  // The stack ends by pushing every point out of the skin, also when it holds no effect.
-  effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands);
+  // Growth's skin bounds let the stack's closing skin pass skip the points it moved by less.
+  std::vector<float> clearance;
+  interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance);
+  effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands, clearance);
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <string>
 #include <vector>
 
 #include "groom/guides.h"
@@ -91,7 +92,8 @@ double cpu_seconds() {
 
 }  // namespace
 
-/// Optional arguments: strand count (default 100000) and repeats (default 7), e.g. for a short profile.
+/// Optional arguments: strand count (default 100000), repeats (default 7), and "stack-only" to run
+/// nothing but the stack (for a profiler).
 int main(int argc, char **argv) {
   const int strand_count = argc > 1 ? std::atoi(argv[1]) : 100000, points = 32;
   const int repeats = argc > 2 ? std::max(std::atoi(argv[2]), 1) : 7;
@@ -120,6 +122,17 @@ int main(int argc, char **argv) {
   const double prepare = seconds_since(t_prepare);
 
   StrandSet strands;
+  std::vector<float> clearance;
+  if (argc > 3 && std::string(argv[3]) == "stack-only") {
+    // Profiling aid: the stack alone, applied `repeats` times to one grown frame.
+    interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance);
+    const StrandSet grown = strands;
+    for (int r = 0; r < repeats; ++r) {
+      strands = grown;
+      stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance);
+    }
+    return 0;
+  }  // growth's skin bounds, handed to the stack as the pipeline does
   std::vector<double> grow_only, grow_and_stack, stack_only, cpu_grow, cpu_stack;
   for (int r = 0; r < repeats; ++r) {
     auto t0 = std::chrono::steady_clock::now();
@@ -129,10 +142,10 @@ int main(int argc, char **argv) {
     cpu_grow.push_back(cpu_seconds() - c0);
 
     t0 = std::chrono::steady_clock::now();
-    interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands);
+    interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance);
     const auto t1 = std::chrono::steady_clock::now();
     c0 = cpu_seconds();
-    stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands);
+    stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance);
     grow_and_stack.push_back(seconds_since(t0));
     stack_only.push_back(seconds_since(t1));
     cpu_stack.push_back(cpu_seconds() - c0);
@@ -151,5 +164,21 @@ int main(int argc, char **argv) {
   const double cpu_base = median(cpu_grow), cpu_fx = median(cpu_stack);
   std::printf("CPU time (all threads): regrowth %.3f s, stack %.3f s, ratio (regrowth + stack) / regrowth %.2f\n",
               cpu_base, cpu_fx, (cpu_base + cpu_fx) / cpu_base);
+
+  // Each effect alone (with the closing skin pass), CPU time: where the stack's time goes.
+  const char *names[] = {"clump (large)", "clump (small)", "tension", "length", "wave", "frizz", "curl"};
+  const std::vector<EffectDesc> all = full_stack();
+  std::printf("%-34s %10s\n", "one effect alone (+ skin pass)", "CPU s");
+  for (size_t e = 0; e < all.size(); ++e) {
+    const interp::EffectStack single({all[e]}, rest, roots, guides, nearest);
+    std::vector<double> cpu;
+    for (int r = 0; r < std::min(repeats, 3); ++r) {
+      interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance);
+      const double c0 = cpu_seconds();
+      single.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance);
+      cpu.push_back(cpu_seconds() - c0);
+    }
+    std::printf("  %-32s %10.3f\n", names[e], median(cpu));
+  }
   return 0;
 }

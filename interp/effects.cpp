@@ -315,7 +315,12 @@ void apply_clump(const EffectStack::Prepared &e, size_t i, const StrandSet &stra
     const float w = std::clamp(s * e.desc.ramp.at(t), 0.0f, 1.0f);
     Eigen::Vector3f d = (1.0f - w) * (pts[j] - c);
     const float theta = kTwoPi * e.desc.clump_twist * s * t;
-    if (theta != 0.0f && axis.squaredNorm() > 0.0f) d = Eigen::AngleAxisf(theta, axis.normalized()) * d;
+    if (theta != 0.0f && axis.squaredNorm() > 0.0f) {
+      // Rodrigues' formula on d alone (no matrix).
+      const Eigen::Vector3f a = axis.normalized();
+      const float cos_theta = std::cos(theta), sin_theta = std::sin(theta);
+      d = cos_theta * d + sin_theta * a.cross(d) + ((1.0f - cos_theta) * a.dot(d)) * a;
+    }
     pts[j] = c + d;
   }
 }
@@ -456,7 +461,7 @@ void apply_curl(const EffectStack::Prepared &e, size_t i, uint64_t id, const Sur
 }  // namespace
 
 void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, const StrandSet &guides_this_frame,
-                        float skin_margin, StrandSet &r_strands) const {
+                        float skin_margin, StrandSet &r_strands, std::span<const float> clearance) const {
   const int64_t n = int64_t(r_strands.strand_count());
   if (size_t(n) != ids_.size() || r_strands.ids != ids_)
     throw InternalError("EffectStack::apply: strands do not match the roots (count, order or ids)");
@@ -484,29 +489,27 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     }
   }
 
-  // Grown strands are at least skin_margin outside the skin (growth pushes them out), and the signed
-  // distance is 1-Lipschitz, sd(p') >= sd(p) - |p' - p|: a point the stack moved by less than the margin
-  // is still outside and is skipped. The others go through growth's skin guard (interp/skin_guard.h):
-  // the same Lipschitz bound from the last known point, then the grid's block bound and a local search
-  // started from the last closest triangle (the root's at first), and a push along the normal to the
-  // margin when closer. A skipped point is left as it is, but a copy of it still goes through the
-  // guard: the guard then walks the strand in small steps from the root, as in growth, so its local
-  // searches stay exact and its bound positive (a first moved point far up the strand would otherwise
-  // cost a whole-mesh query).
+  // The signed distance is 1-Lipschitz, sd(p') >= sd(p) - |p' - p|: a point the stack moved by less than
+  // its clearance minus the margin is still outside by the margin, and the guard is only told so. The
+  // others go through growth's skin guard (interp/skin_guard.h): the same bound from the last known
+  // point, then the grid's block bound and a local search started from the last closest triangle (the
+  // root's at first), and a push along the normal to the margin when closer.
+  if (!clearance.empty() && clearance.size() != r_strands.positions.size())
+    throw InternalError("EffectStack::apply: clearance count differs from the point count");
   const SkinGrid grid(posed_mesh, posed_query);
   const float scale = mesh_scale(posed_mesh);
-  const float margin_sq = skin_margin * skin_margin;
   auto keep_out_of_skin = [&](int64_t i, std::span<Eigen::Vector3f> pts) {
-    const Eigen::Vector3f *grown = grown_positions.data() + r_strands.offsets[i];
+    const size_t first = size_t(r_strands.offsets[i]);
+    const Eigen::Vector3f *grown = grown_positions.data() + first;
     SkinGuard guard(posed_query, skin_margin, scale, &grid);
     guard.start(pts[0], root_points_[i].triangle);  // the root never moves and lies on the skin
     for (size_t j = 1; j < pts.size(); ++j) {
-      if ((pts[j] - grown[j]).squaredNorm() >= margin_sq) {
+      const float before = clearance.empty() ? skin_margin : clearance[first + j];
+      const float bound = before - (pts[j] - grown[j]).norm();
+      if (bound >= skin_margin)
+        guard.know(pts[j], bound);
+      else
         guard.keep_out(pts[j]);
-      } else {
-        Eigen::Vector3f unmoved = pts[j];
-        guard.keep_out(unmoved);
-      }
     }
   };
 

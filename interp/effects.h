@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "groom/effect_desc.h"
@@ -36,13 +37,15 @@ class EffectStack {
   /// Applies the stack in order to `r_strands`, grown this frame (strand i has id roots.ids[i], same
   /// order as the roots; every strand has at least 2 points). `posed_mesh` is the emitter at this frame
   /// (same topology as the rest mesh) and `posed_query` a query on it; `guides_this_frame` the guides at
-  /// this frame (same order as the rest guides). Point counts never change. The strands are expected
-  /// at least `skin_margin` (scene units) outside the skin, as grow() leaves them; the stack ends with no
-  /// point inside the skin: every point it moved by `skin_margin` or more and that is then closer than
-  /// `skin_margin` is pushed out along the normal (the points it moved less are still outside, since the
-  /// signed distance is 1-Lipschitz). An empty stack leaves the strands as they are.
+  /// this frame (same order as the rest guides). Point counts never change. `clearance`: one lower
+  /// bound per point of its signed distance to the skin before the stack, as grow() gives it; when
+  /// empty, every point is taken to be `skin_margin` (scene units) outside, as grow() leaves them. The
+  /// stack ends with no point inside the skin: a point it moved by d is still at least clearance - d
+  /// outside (the signed distance is 1-Lipschitz), and only where that bound falls below `skin_margin`
+  /// is the skin looked at, and the point pushed out along the normal to the margin when closer. An
+  /// empty stack leaves the strands as they are.
   void apply(const Mesh &posed_mesh, const MeshQuery &posed_query, const StrandSet &guides_this_frame,
-             float skin_margin, StrandSet &r_strands) const;
+             float skin_margin, StrandSet &r_strands, std::span<const float> clearance = {}) const;
 
   /// True when the stack has no effect (apply then leaves strands untouched).
   bool empty() const;

@@ -11,6 +11,7 @@
 #include "effects/effects_fixtures.h"
 #include "groom/error.h"
 #include "interp/effects.h"
+#include "interp/interpolate.h"
 #include "interp/noise.h"
 
 using namespace plume;
@@ -505,6 +506,41 @@ TEST_CASE("after the stack no strand point is inside the skin", "[effects]") {
       inside_before_pushout += d < 1.5f * margin;
     }
   CHECK(inside_before_pushout > 100);
+}
+
+TEST_CASE("with growth's clearance the stack skips proven points and still ends out of the skin", "[effects]") {
+  SphereScene s;
+  InterpolationSettings settings;
+  settings.skin_margin = 0.01f;
+  const interp::Binding binding = interp::bind(s.mesh, s.guides, s.roots, settings);
+  interp::GrowOptions options;
+  options.points_per_strand = 16;
+  StrandSet grown;
+  std::vector<float> clearance;
+  interp::grow(binding, s.mesh, s.query, s.roots, s.guides.strands, options, grown, &clearance);
+  std::vector<EffectDesc> effects = full_stack(1.0f);
+  effects[4].amplitude = 0.2f;  // wave
+  effects[6].curl_radius = 0.1f;
+  const EffectStack stack(effects, s.mesh, s.roots, s.guides, s.nearest);
+  StrandSet with_bounds = grown, without_bounds = grown;
+  stack.apply(s.mesh, s.query, s.guides.strands, settings.skin_margin, with_bounds, clearance);
+  stack.apply(s.mesh, s.query, s.guides.strands, settings.skin_margin, without_bounds);
+  size_t on_margin = 0;
+  float largest_difference = 0.0f;
+  for (size_t i = 0; i < with_bounds.strand_count(); ++i)
+    for (int64_t j = 1; j < with_bounds.points_in(i); ++j) {
+      const float d = s.query.signed_distance(with_bounds.points(i)[j]);
+      CHECK(d >= settings.skin_margin * (1.0f - 1e-3f));
+      on_margin += d < 1.5f * settings.skin_margin;
+      largest_difference =
+          std::max(largest_difference, (with_bounds.points(i)[j] - without_bounds.points(i)[j]).norm());
+    }
+  CHECK(on_margin > 100);
+  // The bounds only spare queries: the same points are pushed, to the same places.
+  CHECK(largest_difference <= 1e-5f);
+  CHECK_THROWS_AS(stack.apply(s.mesh, s.query, s.guides.strands, settings.skin_margin, with_bounds,
+                              std::span<const float>(clearance.data(), 5)),
+                  InternalError);
 }
 
 TEST_CASE("simplex noise is smooth, bounded and seeded", "[effects]") {

@@ -470,7 +470,12 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
 
   if (effects_.empty()) return;
   // The strands as growth left them, for the skin pass at the end.
-  const std::vector<Eigen::Vector3f> grown_positions = r_strands.positions;
+  std::vector<Eigen::Vector3f> grown_positions(r_strands.positions.size());
+#pragma omp parallel for schedule(static)
+  for (int64_t i = 0; i < n; ++i) {
+    const std::span<const Eigen::Vector3f> pts = r_strands.points(size_t(i));
+    std::copy(pts.begin(), pts.end(), grown_positions.begin() + r_strands.offsets[size_t(i)]);
+  }
 
   // Tension needs each guide's arc lengths and posed root normal once per frame.
   const bool any_tension = std::any_of(effects_.begin(), effects_.end(),

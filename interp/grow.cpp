@@ -421,6 +421,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       }
       return to;
     };
+    // What the guard proved at a point, or the grid's cell bound (a lookup) when that is larger.
+    auto proven_clearance = [&](const Eigen::Vector3f &p) {
+      return std::max(guard.lower_bound(p), skin_grid->distance_lower_bound(p));
+    };
     // First step: the guides' first directions carried to this root's frame, so the strand leaves
     // the skin the way its guides do.
     Eigen::Vector3f seed = Eigen::Vector3f::Zero();
@@ -431,8 +435,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     Eigen::Vector3f direction = unit_or(seed, normal);
     points[1] = advance(points[0], direction);
     if (clearance) {
-      clearance[r * n] = guard.lower_bound(points[0]);
-      clearance[r * n + 1] = guard.lower_bound(points[1]);
+      clearance[r * n] = proven_clearance(points[0]);
+      clearance[r * n + 1] = proven_clearance(points[1]);
     }
     direction = unit_or(points[1] - points[0], direction);
     // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
@@ -457,7 +461,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       }
       points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
       direction = unit_or(points[i + 1] - points[i], last_direction);
-      if (clearance) clearance[r * n + i + 1] = guard.lower_bound(points[i + 1]);
+      if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
     }
   }
 

@@ -23,6 +23,9 @@ class SimplexNoise3 {
 
  private:
   std::array<uint8_t, 512> perm_;  // a shuffle of 0..255, stored twice to skip a wrap
+  /// Per channel, the gradient index (0..11) of a corner hash: channel 0 reads hash % 12, channel c
+  /// reads perm[hash + 85 c] % 12 (unrelated gradients from the same lattice walk).
+  std::array<std::array<uint8_t, 256>, 3> gradient_of_;
 };
 
 }  // namespace plume::interp

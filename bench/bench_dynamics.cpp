@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 #include <ctime>
 #include <vector>
 
@@ -189,11 +190,18 @@ Figure median(std::vector<Figure> runs) {
 
 }  // namespace
 
-int main() {
+// With --profile-plain, only the chain without collisions is run (a few times, nothing printed):
+// a clean run to record with a profiler.
+int main(int argc, char **argv) {
+  const bool profile_plain = argc > 1 && std::string_view(argv[1]) == "--profile-plain";
   const Mesh head = sphere(48, 96);
   const Guides guides = make_guides(head);
   std::vector<Mesh> poses;
   for (int f = 1; f <= kFrames; ++f) poses.push_back(shaken(head, f));
+  if (profile_plain) {
+    for (int run = 0; run < 3 * kRuns; ++run) run_simulator(head, poses, guides, false);
+    return 0;
+  }
   std::vector<Figure> plain, collide, baseline;
   for (int run = 0; run < kRuns; ++run) {
     plain.push_back(run_simulator(head, poses, guides, false));

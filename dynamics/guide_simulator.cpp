@@ -28,6 +28,10 @@ using Eigen::Vector3d;
 
 // Relative tolerance on segment lengths at the end of a substep.
 constexpr double kLengthTolerance = 1e-8;
+// Share of the centripetal term h |dv_perp|^2 / l asked of the first velocity projection (see
+// project_velocities): 1/3 puts a segment turning by theta at angle theta + O(theta^5) after the
+// length projection.
+constexpr double kCentripetal = 1.0 / 3.0;
 // Newton iterations of the post-stabilisation before the exact root-to-tip fallback.
 constexpr int kMaxProjectionIterations = 8;
 // Rounds of (push out of shapes, restore lengths) per substep.
@@ -104,6 +108,7 @@ struct GuideSimulator::State {
   // Per joint, fixed after construction.
   std::vector<Vector3d> rest_local;   // rest point in its root's rest surface frame
   std::vector<double> rest_length;    // l_i of the segment ending at this joint (0 for joint 0)
+  std::vector<double> inv_rest_length;  // 1 / l_i (0 for joint 0)
   std::vector<double> mass, inv_mass;  // m_j, w_j (w = 0 for the kinematic joints 0 and 1)
   std::vector<double> stiffness;      // k_i of the segment ending at this joint
   std::vector<double> emitter_margin;  // clearance kept from the emitter; < 0: not tested
@@ -152,7 +157,7 @@ struct GuideSimulator::State {
   bool collide(int64_t begin, int64_t n, double h, int64_t &r_queries);
   int project_lengths(int64_t begin, int64_t n);
   void project_velocities(int64_t begin, int64_t n, const Eigen::Vector3d &first_velocity, const Eigen::Vector3d *v_in,
-                          Eigen::Vector3d *v_out, double *r_lambda);
+                          Eigen::Vector3d *v_out, double *r_lambda, double turn_h = 0.0);
 };
 
 // The emitter's tree for the current substep, built on first use (thread-safe); null if the
@@ -350,17 +355,24 @@ int GuideSimulator::State::project_lengths(int64_t begin, int64_t n) {
   return solves;
 }
 
-// Velocity-level inextensibility: v = v' + W J^T lambda with J v = 0, J_i v = e_i . (v_i - v_{i-1}):
+// Velocity-level inextensibility: v = v' + W J^T lambda with J v = b, J_i v = e_i . (v_i - v_{i-1}):
 //   (w_i + w_{i-1}) lambda_i - w_{i-1} (e_{i-1} . e_i) lambda_{i-1} - w_i (e_i . e_{i+1}) lambda_{i+1}
-//     = -e_i . (v'_i - v'_{i-1}),
+//     = b_i - e_i . (v'_i - v'_{i-1}),
 // a symmetric positive definite tridiagonal system (w_1 = 0: joint 1 moves with the skin at
-// `first_velocity`). Uses the directions in `dir`; v_in and v_out are joint-indexed from the
-// guide's first joint and may alias; r_lambda gets the n - 2 multipliers.
+// `first_velocity`). b = 0 makes the velocities tangent to the constraints. With turn_h = h > 0,
+// b_i = -kCentripetal h |dv'_perp,i|^2 / l_i: a segment whose relative velocity dv has the part
+// dv_perp across it turns, and the step x += h v leaves it longer by about h^2 |dv_perp|^2 / (2 l);
+// asking for that inward velocity up front starts the length projection much closer to the
+// constraints (fewer Newton solves), and the multipliers then include the centripetal tension.
+// Uses the directions in `dir`; v_in and v_out are joint-indexed from the guide's first joint and
+// may alias; r_lambda gets the n - 2 multipliers.
 void GuideSimulator::State::project_velocities(int64_t begin, int64_t n, const Vector3d &first_velocity,
-                                               const Vector3d *v_in, Vector3d *v_out, double *r_lambda) {
+                                               const Vector3d *v_in, Vector3d *v_out, double *r_lambda,
+                                               double turn_h) {
   const int64_t rows = n - 2;
   const Vector3d *e = dir.data() + begin;
-  const double *w = inv_mass.data() + begin;
+  const double *w = inv_mass.data() + begin, *inv_l = inv_rest_length.data() + begin;
+  const double centripetal = kCentripetal * turn_h;
   double *lo = lower.data() + begin, *di = diag.data() + begin, *up = upper.data() + begin;
   for (int64_t i = 2; i < n; ++i) {
     const int64_t r = i - 2;
@@ -369,7 +381,9 @@ void GuideSimulator::State::project_velocities(int64_t begin, int64_t n, const V
     di[r] = w[i] + w_prev;
     lo[r] = i > 2 ? -w_prev * e[i - 1].dot(e[i]) : 0.0;
     up[r] = i + 1 < n ? -w[i] * e[i].dot(e[i + 1]) : 0.0;
-    r_lambda[r] = -e[i].dot(v_in[i] - v_prev);
+    const Vector3d dv = v_in[i] - v_prev;
+    const double axial = e[i].dot(dv);
+    r_lambda[r] = -axial - centripetal * (dv.squaredNorm() - axial * axial) * inv_l[i];
   }
   solve_tridiagonal({lo, size_t(rows)}, {di, size_t(rows)}, {up, size_t(rows)}, {r_lambda, size_t(rows)});
   for (int64_t j = 2; j < n; ++j) {
@@ -430,9 +444,9 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   const Vector3d gravity = settings.gravity.cast<double>();
   const Matrix3d skin_turn = f1.rotation.toRotationMatrix() * f0.rotation.toRotationMatrix().transpose();
   const double h2 = h * h, inv_h = 1.0 / h;
-  const double *l = rest_length.data() + begin;
+  const double *inv_l = inv_rest_length.data() + begin;
   WindField air(settings, time_end);
-  auto coupling = [&](int64_t i) { return i < n ? k[i] + std::max(0.0, -tau[i]) / l[i] : 0.0; };
+  auto coupling = [&](int64_t i) { return i < n ? k[i] + std::max(0.0, -tau[i]) * inv_l[i] : 0.0; };
   const double c_first = coupling(2);
   double c = c_first;  // coupling of segment j, carried from the previous row
   for (int64_t j = 2; j < n; ++j) {
@@ -455,10 +469,11 @@ void GuideSimulator::State::substep_guide(size_t g, double s0, double s1, double
   vel[2] += h2 * c_first * first_velocity;  // the kinematic neighbour's term moves to the right side
   solve_tridiagonal({lo, size_t(rows)}, {di, size_t(rows)}, {up, size_t(rows)}, {vel + 2, size_t(rows)});
 
-  // 3. Velocity-level inextensibility at the start directions (see project_velocities); the
-  //    multipliers are impulses, lambda / h the tension force carried to the next predictor, so
-  //    a guide at rest stays at rest.
-  project_velocities(begin, n, first_velocity, vel, vs, lambda);
+  // 3. Velocity-level inextensibility at the start directions (see project_velocities), with
+  //    the centripetal inward velocity of turning segments; the multipliers are impulses,
+  //    lambda / h the tension force carried to the next predictor, so a guide at rest stays at
+  //    rest.
+  project_velocities(begin, n, first_velocity, vel, vs, lambda, h);
   for (int64_t j = 2; j < n; ++j) tau[j] += lambda[j - 2] * inv_h;
 
   // 4. Positions; kinematic joints placed on the skin.
@@ -536,7 +551,7 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
   for (auto *a : {&st.rest_local, &st.x, &st.v, &st.gold, &st.query_point, &st.dir, &st.target, &st.velocity_rhs,
                   &st.correction, &st.contact_normal, &st.contact_velocity})
     a->assign(joint_num, Vector3d::Zero());
-  for (auto *a : {&st.rest_length, &st.mass, &st.inv_mass, &st.stiffness, &st.emitter_margin, &st.tension,
+  for (auto *a : {&st.rest_length, &st.inv_rest_length, &st.mass, &st.inv_mass, &st.stiffness, &st.emitter_margin, &st.tension,
                   &st.query_clearance, &st.rest_clearance, &st.skin_travel, &st.lower, &st.diag, &st.upper, &st.scalar_rhs,
                   &st.contact_friction})
     a->assign(joint_num, 0.0);
@@ -561,6 +576,7 @@ GuideSimulator::GuideSimulator(const Mesh &rest_mesh, const Guides &guides, cons
       if (i > 0) {
         const double l = std::max((points[i] - points[i - 1]).cast<double>().norm(), min_segment);
         st.rest_length[begin + i] = l;
+        st.inv_rest_length[begin + i] = 1.0 / l;
         const double u = arc / length;  // the bending joint x_{i-1} along the guide
         st.stiffness[begin + i] =
             i >= 2 ? settings.stiffness.at(float(u)) * settings.stiffness_scale * rho * g_ref * std::pow(length / l, 3.0)

@@ -17,6 +17,10 @@ FramePose FramePose::from(const SurfaceFrame &frame) {
 }
 
 FramePose FramePose::interpolate(const FramePose &a, const FramePose &b, double s) {
+  // The ends are the poses themselves (what slerp gives there, without its trigonometry): at one
+  // substep per frame every interpolation is at an end.
+  if (s == 0.0) return a;
+  if (s == 1.0) return b;
   FramePose pose;
   pose.origin = a.origin + s * (b.origin - a.origin);
   pose.rotation = a.rotation.slerp(s, b.rotation);

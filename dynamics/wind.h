@@ -32,7 +32,7 @@ inline Eigen::Vector3d wind_velocity(const DynamicsSettings &settings, double ti
   const double speed2 = wind.squaredNorm();
   if (speed2 == 0.0) return Eigen::Vector3d::Zero();
   if (settings.wind_gust == 0.0f) return wind;
-  const double phase = settings.wind_gust_frequency * (time - position.dot(wind) / speed2);
+  const double phase = settings.wind_gust_frequency * (time - position.dot(wind) * (1.0 / speed2));
   return wind * (1.0 + settings.wind_gust * gust_noise(settings.seed, phase));
 }
 
@@ -45,12 +45,13 @@ class WindField {
       : wind_(settings.wind.cast<double>()), time_(time), gust_(settings.wind_gust),
         frequency_(settings.wind_gust_frequency), seed_(settings.seed) {
     speed2_ = wind_.squaredNorm();
+    inv_speed2_ = 1.0 / speed2_;
   }
   Eigen::Vector3d at(const Eigen::Vector3d &position) {
     if (speed2_ == 0.0) return Eigen::Vector3d::Zero();
     if (gust_ == 0.0f) return wind_;
     // The same arithmetic as wind_velocity and gust_noise, in the same order.
-    const double phase = frequency_ * (time_ - position.dot(wind_) / speed2_);
+    const double phase = frequency_ * (time_ - position.dot(wind_) * inv_speed2_);
     const double cell = std::floor(phase);
     const double f = phase - cell;
     const int64_t i = int64_t(cell);
@@ -69,7 +70,7 @@ class WindField {
   double time_;
   float gust_, frequency_;
   uint64_t seed_;
-  double speed2_ = 0.0;
+  double speed2_ = 0.0, inv_speed2_ = 0.0;
   int64_t cell_ = 0;
   bool cached_ = false;
   double a_ = 0.0, b_ = 0.0;

@@ -366,15 +366,24 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       continue;
     }
 
-    // The root: on the skin, lifted by the guides' own offsets from their surface points (carried),
-    // never below the skin.
+    // The root: on the skin, lifted along its normal by the height of the guides' own first points
+    // above their surface points (carried), never below the skin. Only the height: a sideways part
+    // would move the root off its place on the skin, and where the skin curves (round an ear) into it.
     Eigen::Vector3f lift = Eigen::Vector3f::Zero();
     for (int s = 0; s < used; ++s) {
       const size_t g = size_t(slots[s].guide);
       lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
     }
-    lift -= std::min(lift.dot(normal), 0.0f) * normal;
-    points[0] = root_frame.origin + lift;
+    const float height = std::max(lift.dot(normal), 0.0f);
+    points[0] = root_frame.origin + height * normal;
+    if (height > 0.0f && skin_grid) {
+      // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
+      // normals average its two sides) the normal can lead behind another part of the skin: then the
+      // root stays on the skin.
+      SurfacePoint closest;
+      if (skin_grid->signed_distance(points[0], roots.points[size_t(r)].triangle, closest) < 0.0f)
+        points[0] = root_frame.origin;
+    }
 
     if (settings.method == InterpolationSettings::Method::fur) {
       // Segment j: weighted length and weighted direction of the carried guides' segments j.
@@ -410,14 +419,14 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     SkinGuard guard(query, settings.skin_margin, scale, skin_grid.get());
     guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
     // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
-    // keeps its length, and check again.
+    // keeps its length, and check again with a query (see SkinGuard::keep_out).
     auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
       Eigen::Vector3f to = from + step * direction;
       const Eigen::Vector3f aimed = to;
       guard.keep_out(to);
       if (to != aimed) {
         to = from + step * unit_or(to - from, direction);
-        guard.keep_out(to);
+        guard.keep_out(to, true);
       }
       return to;
     };

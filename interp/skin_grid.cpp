@@ -163,6 +163,16 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
   return std::sqrt(bound_sq);
 }
 
+float SkinGrid::signed_at(const Eigen::Vector3f &p, float distance, SurfacePoint &r_closest) const {
+  const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
+  const float side = offset.dot(surface_normal(mesh_, r_closest));
+  // Where the interpolated normal is nearly perpendicular to the offset (a fold whose vertex normals
+  // average two sides), the sign turns on the last bits of the closest point: the tree's answer,
+  // MeshQuery::signed_distance, decides, so that every part of Plume agrees on it.
+  if (std::abs(side) < 0.05f * offset.norm()) return query_.signed_distance(p, &r_closest);
+  return side < 0.0f ? -distance : distance;
+}
+
 bool SkinGrid::hint_distance(const Eigen::Vector3f &p, int hint, Eigen::Vector3f &r_bary, float &r_distance_sq) const {
   if (hint < 0 || size_t(hint) >= mesh_.triangle_count() || cell_triangles_.empty()) return false;
   r_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
@@ -243,9 +253,7 @@ float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint
       }
   r_closest.triangle = best;
   r_closest.bary = best_bary;
-  const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
-  const float distance = std::sqrt(best_sq);
-  return offset.dot(surface_normal(mesh_, r_closest)) < 0.0f ? -distance : distance;
+  return signed_at(p, std::sqrt(best_sq), r_closest);
 }
 
 bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &r_distance,
@@ -294,8 +302,7 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
     r_distance = gap;
     return false;
   }
-  const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
-  r_distance = offset.dot(surface_normal(mesh_, r_closest)) < 0.0f ? -distance : distance;
+  r_distance = signed_at(p, distance, r_closest);
   return true;
 }
 

@@ -52,6 +52,9 @@ class SkinGrid {
   }
   /// Corner i of triangle f.
   const Eigen::Vector3f &vertex(int f, int i) const { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; }
+  /// The signed distance of p at unsigned `distance` from its closest point r_closest (which the
+  /// tree's answer replaces where the side is ill-conditioned).
+  float signed_at(const Eigen::Vector3f &p, float distance, SurfacePoint &r_closest) const;
   /// Closest point of triangle `hint` to p and its squared distance; false when there is no hint, or
   /// the hint is degenerate (then the caller queries the whole mesh).
   bool hint_distance(const Eigen::Vector3f &p, int hint, Eigen::Vector3f &r_bary, float &r_distance_sq) const;

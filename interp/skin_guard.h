@@ -47,9 +47,16 @@ class SkinGuard {
   float lower_bound(const Eigen::Vector3f &p) const { return known_distance_ - (p - known_point_).norm(); }
 
   /// Moves `p` out along the surface normal if its signed distance is below the margin (a few
-  /// iterations for concave places, where one move along the normal falls short).
-  void keep_out(Eigen::Vector3f &p) {
+  /// iterations for concave places, where one move along the normal falls short). `always_query`
+  /// skips the bounds: for a point placed just after a push, where the skin may fold (a thin ear
+  /// whose vertex normals average its two sides, so the side of a point can change without crossing
+  /// the skin and the Lipschitz bound would clear a point that the signed distance puts inside).
+  void keep_out(Eigen::Vector3f &p, bool always_query = false) {
     const float moved = (p - known_point_).norm();
+    if (always_query) {
+      query_and_push(p);
+      return;
+    }
     if (known_distance_ - moved >= margin_) return;
     // Far from every triangle (grid bound) and no way to have crossed the skin since the last known
     // outside point: along q -> p the distance stays above (sd(q) + lower - moved) / 2 > 0.
@@ -89,16 +96,47 @@ class SkinGuard {
     } else {
       distance = query_.signed_distance(p, &closest);
     }
+    push_out(p, distance, closest);
+  }
+
+ private:
+  /// An exact query at p, then the push.
+  void query_and_push(Eigen::Vector3f &p) {
+    SurfacePoint closest;
+    const float distance = distance_to_skin(p, hint_, closest);
+    push_out(p, distance, closest);
+  }
+  /// Pushes p (at signed `distance`, closest point `closest`) out to the margin and records it.
+  void push_out(Eigen::Vector3f &p, float distance, SurfacePoint &closest) {
     for (int iteration = 0; iteration < 4 && distance < margin_; ++iteration) {
       p += (margin_ - distance + overshoot_) * surface_normal(query_.mesh(), closest);
       distance = distance_to_skin(p, closest.triangle, closest);
+    }
+    if (distance < 0.0f && known_distance_ >= 0.0f) {
+      // Still inside (a fold where the normals lead back in, as between an ear and the head): keep
+      // the farthest point outside on the way from the last known outside point, by bisection.
+      const Eigen::Vector3f from = known_point_, to = p;
+      float outside = 0.0f, inside = 1.0f;
+      for (int iteration = 0; iteration < 16; ++iteration) {
+        const float t = 0.5f * (outside + inside);
+        SurfacePoint probe;
+        if (distance_to_skin(from + t * (to - from), hint_, probe) >= 0.0f)
+          outside = t;
+        else
+          inside = t;
+      }
+      p = from + outside * (to - from);
+      distance = distance_to_skin(p, hint_, closest);
+      if (distance < 0.0f) {
+        p = from;
+        distance = known_distance_;
+      }
     }
     hint_ = closest.triangle;
     known_point_ = p;
     known_distance_ = distance;
   }
 
- private:
   const MeshQuery &query_;
   float distance_to_skin(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
     return grid_ ? grid_->signed_distance(p, hint, r_closest) : query_.signed_distance(p, &r_closest);

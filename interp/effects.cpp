@@ -63,11 +63,17 @@ void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float>
   for (size_t j = 1; j < pts.size(); ++j) r_cum[j] = r_cum[j - 1] + (pts[j] - pts[j - 1]).norm();
 }
 
+/// v / |v| with one division instead of three (a zero vector stays zero).
+Eigen::Vector3f unit(const Eigen::Vector3f &v) {
+  const float length_sq = v.squaredNorm();
+  return length_sq > 0.0f ? Eigen::Vector3f(v * (1.0f / std::sqrt(length_sq))) : v;
+}
+
 /// Unit tangent at point j of a polyline (central difference inside, one-sided at the ends).
 Eigen::Vector3f tangent_at(std::span<const Eigen::Vector3f> pts, size_t j) {
   const size_t a = j == 0 ? 0 : j - 1;
   const size_t b = j + 1 == pts.size() ? j : j + 1;
-  return (pts[b] - pts[a]).normalized();
+  return unit(pts[b] - pts[a]);
 }
 
 /// Standard normal draw from two hashes (Box-Muller).
@@ -317,7 +323,7 @@ void apply_clump(const EffectStack::Prepared &e, size_t i, const StrandSet &stra
     const float theta = kTwoPi * e.desc.clump_twist * s * t;
     if (theta != 0.0f && axis.squaredNorm() > 0.0f) {
       // Rodrigues' formula on d alone (no matrix).
-      const Eigen::Vector3f a = axis.normalized();
+      const Eigen::Vector3f a = unit(axis);
       const float cos_theta = std::cos(theta), sin_theta = std::sin(theta);
       d = cos_theta * d + sin_theta * a.cross(d) + ((1.0f - cos_theta) * a.dot(d)) * a;
     }
@@ -434,7 +440,7 @@ void apply_curl(const EffectStack::Prepared &e, size_t i, uint64_t id, const Sur
   Eigen::Vector3f t_prev = tangent_at(p, 0);
   Eigen::Vector3f u = posed_frame.basis.col(0) - t_prev * t_prev.dot(posed_frame.basis.col(0));
   if (u.squaredNorm() < 1e-12f) u = t_prev.unitOrthogonal();
-  u.normalize();
+  u = unit(u);
   for (int64_t j = 1; j < n; ++j) {
     const Eigen::Vector3f t_cur = tangent_at(p, size_t(j));
     // Double reflection: reflect (u, t) in the bisecting plane of the segment, then in the plane
@@ -447,7 +453,7 @@ void apply_curl(const EffectStack::Prepared &e, size_t i, uint64_t id, const Sur
       const Eigen::Vector3f v2 = t_cur - t_l;
       const float c2 = v2.squaredNorm();
       u = c2 > 1e-12f ? Eigen::Vector3f(u_l - (2.0f / c2) * v2.dot(u_l) * v2) : u_l;
-      u = (u - t_cur * t_cur.dot(u)).normalized();
+      u = unit(u - t_cur * t_cur.dot(u));
     }
     t_prev = t_cur;
     const float r = radius * d.ramp.at(strand_param(j, n));

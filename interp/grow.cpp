@@ -19,6 +19,7 @@ struct GuideSegment {
   Eigen::Vector3f direction;  // unit
   Eigen::Vector3f tangent_start, tangent_end;  // continuous tangents at its two points
   float length;
+  float inverse_length;  // 1 / length, 0 for a zero-length segment
   float arc;        // arc length from the guide's first point to `start`
   float curvature;  // sustained curvature (see FrameGuides::segment_curvatures)
 };
@@ -53,7 +54,7 @@ struct FrameGuides {
 
 Eigen::Vector3f unit_or(const Eigen::Vector3f &v, const Eigen::Vector3f &fallback) {
   const float norm = v.norm();
-  return norm > 1e-20f ? Eigen::Vector3f(v / norm) : fallback;
+  return norm > 1e-20f ? Eigen::Vector3f(v * (1.0f / norm)) : fallback;
 }
 
 /// Unit directions and lengths of the segments of a polyline; zero-length segments take the
@@ -169,8 +170,10 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
       const Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
       for (int64_t j = 0; j < frame.segment_offsets[g + 1] - first; ++j) {
         const size_t at = size_t(first + j);
-        frame.segments[at] = {points[size_t(j)], frame.segment_directions[at], tangents[j], tangents[j + 1],
-                              frame.segment_lengths[at], frame.segment_arcs[at], frame.segment_curvatures[at]};
+        const float length = frame.segment_lengths[at];
+        frame.segments[at] = {points[size_t(j)], frame.segment_directions[at], tangents[j],        tangents[j + 1],
+                              length,            length > 0.0f ? 1.0f / length : 0.0f,         frame.segment_arcs[at],
+                              frame.segment_curvatures[at]};
       }
     }
   } else {
@@ -237,7 +240,7 @@ struct StreamlineField {
       // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
       // of distances needs. |p - q| is the previous evaluation's, half a step behind.
       const float lambda = std::max(0.0f, 2.0f * segments[slot.segment].curvature * slot.distance - 0.5f);
-      const float inverse_one_plus_lambda = 1.0f / (1.0f + lambda);
+      const float inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : 1.0f;
       // The cost is convex along the guide (the pace term above), so its minimum over each segment
       // falls then rises along the window: walk forward from the window's first segment while the
       // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment). Usually
@@ -269,7 +272,7 @@ struct StreamlineField {
       slot.distance = best_distance;
       if (slot.influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq);
       const GuideSegment &chosen = segments[best];
-      const float u = chosen.length > 0.0f ? best_t / chosen.length : 0.0f;
+      const float u = best_t * chosen.inverse_length;
       const Eigen::Vector3f direction =
           unit_or((1.0f - u) * chosen.tangent_start + u * chosen.tangent_end, chosen.direction);
       if (best_sq <= hit_distance_sq) {
@@ -288,7 +291,7 @@ struct StreamlineField {
     }
     if (r_nearest) *r_nearest = std::sqrt(nearest_sq);
     const float norm = blend.norm();
-    return norm > 1e-6f * weight_sum && norm > 0.0f ? Eigen::Vector3f(blend / norm) : fallback;
+    return norm > 1e-6f * weight_sum && norm > 0.0f ? Eigen::Vector3f(blend * (1.0f / norm)) : fallback;
   }
 };
 

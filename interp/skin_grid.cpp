@@ -7,6 +7,9 @@ namespace plume::interp {
 
 namespace {
 
+/// Two distances within this factor are a near tie (see SkinGrid::signed_at).
+constexpr float kNearTie = 1.0001f;
+
 /// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
 /// Detection, 5.1.5).
 Eigen::Vector3f closest_on_triangle(const Eigen::Vector3f &p, const Eigen::Vector3f &a, const Eigen::Vector3f &b,
@@ -163,13 +166,19 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
   return std::sqrt(bound_sq);
 }
 
-float SkinGrid::signed_at(const Eigen::Vector3f &p, float distance, SurfacePoint &r_closest) const {
+float SkinGrid::signed_at(const Eigen::Vector3f &p, const Nearest &nearest, SurfacePoint &r_closest) const {
+  r_closest.triangle = nearest.best;
+  r_closest.bary = nearest.best_bary;
+  const float distance = std::sqrt(nearest.best_sq);
   const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
   const float side = offset.dot(surface_normal(mesh_, r_closest));
-  // Where the interpolated normal is nearly perpendicular to the offset (a fold whose vertex normals
-  // average two sides), the sign turns on the last bits of the closest point: the tree's answer,
-  // MeshQuery::signed_distance, decides, so that every part of Plume agrees on it.
-  if (std::abs(side) < 0.05f * offset.norm()) return query_.signed_distance(p, &r_closest);
+  bool ill_conditioned = std::abs(side) < 0.05f * offset.norm();
+  if (!ill_conditioned && nearest.second >= 0 && nearest.second_sq <= nearest.best_sq * kNearTie * kNearTie) {
+    const SurfacePoint runner_up{nearest.second, nearest.second_bary};
+    const float other_side = (p - surface_position(mesh_, runner_up)).dot(surface_normal(mesh_, runner_up));
+    ill_conditioned = (other_side < 0.0f) != (side < 0.0f);
+  }
+  if (ill_conditioned) return query_.signed_distance(p, &r_closest);
   return side < 0.0f ? -distance : distance;
 }
 
@@ -210,34 +219,40 @@ bool SkinGrid::clear_within(const Eigen::Vector3f &p, float radius) const {
   return true;
 }
 
-void SkinGrid::scan_cell(const Eigen::Vector3f &p, size_t c, float &r_best_sq, int &r_best,
-                         Eigen::Vector3f &r_best_bary) const {
-  // A triangle whose bounding sphere is farther than the best distance cannot be closer (nor tie: the
-  // slack keeps rounding from rejecting a triangle at the same distance).
-  float reach = std::sqrt(r_best_sq) * 1.0001f;
+void SkinGrid::scan_cell(const Eigen::Vector3f &p, size_t c, Nearest &r_nearest) const {
+  // A triangle whose bounding sphere is farther than the best distance (with the near-tie slack)
+  // can be neither closer nor a near tie.
+  float reach = std::sqrt(r_nearest.best_sq) * kNearTie;
   for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
     const CellTriangle &entry = cell_triangles_[size_t(i)];
     const float far = entry.radius + reach;
     if ((p - entry.centre).squaredNorm() > far * far) continue;
     const int f = entry.triangle;
+    if (f == r_nearest.best || f == r_nearest.second) continue;  // listed in several cells
     const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
     const float distance_sq =
         (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
-    if (distance_sq < r_best_sq || (distance_sq == r_best_sq && f < r_best)) {
-      r_best_sq = distance_sq;
-      r_best = f;
-      r_best_bary = bary;
-      reach = std::sqrt(r_best_sq) * 1.0001f;
+    if (distance_sq < r_nearest.best_sq || (distance_sq == r_nearest.best_sq && f < r_nearest.best)) {
+      r_nearest.second_sq = r_nearest.best_sq;
+      r_nearest.second = r_nearest.best;
+      r_nearest.second_bary = r_nearest.best_bary;
+      r_nearest.best_sq = distance_sq;
+      r_nearest.best = f;
+      r_nearest.best_bary = bary;
+      reach = std::sqrt(distance_sq) * kNearTie;
+    } else if (distance_sq < r_nearest.second_sq) {
+      r_nearest.second_sq = distance_sq;
+      r_nearest.second = f;
+      r_nearest.second_bary = bary;
     }
   }
 }
 
 float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
-  Eigen::Vector3f best_bary;
-  float best_sq = 0.0f;
-  if (!hint_distance(p, hint, best_bary, best_sq)) return query_.signed_distance(p, &r_closest);
-  int best = hint;
-  const float radius = std::sqrt(best_sq);
+  Nearest nearest;
+  if (!hint_distance(p, hint, nearest.best_bary, nearest.best_sq)) return query_.signed_distance(p, &r_closest);
+  nearest.best = hint;
+  const float radius = std::sqrt(nearest.best_sq) * kNearTie;
   Eigen::Vector3i lo, hi;
   for (int a = 0; a < 3; ++a) {
     lo[a] = std::clamp(int(std::floor((p[a] - radius - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
@@ -247,25 +262,19 @@ float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint
   if (span.x() * span.y() * span.z() > 27) return query_.signed_distance(p, &r_closest);
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
-      for (int x = lo.x(); x <= hi.x(); ++x) {
-        const size_t c = cell_index(x, y, z);
-        scan_cell(p, c, best_sq, best, best_bary);
-      }
-  r_closest.triangle = best;
-  r_closest.bary = best_bary;
-  return signed_at(p, std::sqrt(best_sq), r_closest);
+      for (int x = lo.x(); x <= hi.x(); ++x) scan_cell(p, cell_index(x, y, z), nearest);
+  return signed_at(p, nearest, r_closest);
 }
 
 bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &r_distance,
                                      SurfacePoint &r_closest) const {
-  Eigen::Vector3f best_bary;
-  float best_sq = 0.0f;
-  if (!hint_distance(p, hint, best_bary, best_sq)) {
+  Nearest nearest;
+  if (!hint_distance(p, hint, nearest.best_bary, nearest.best_sq)) {
     r_distance = query_.signed_distance(p, &r_closest);
     return true;
   }
-  int best = hint;
-  const float radius = std::sqrt(best_sq);
+  nearest.best = hint;
+  const float radius = std::sqrt(nearest.best_sq) * kNearTie;
   // The ball of the hint's distance, clipped to the cells next to p's cell. `gap`: how far p is from
   // the faces where the clip cut the ball; triangles beyond them are at least that far.
   Eigen::Vector3i lo, hi;
@@ -285,24 +294,24 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
   Eigen::Vector3i own;
   for (int a = 0; a < 3; ++a) own[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
   const bool own_in_block = (own.array() >= lo.array()).all() && (own.array() <= hi.array()).all();
-  if (own_in_block) scan_cell(p, cell_index(own.x(), own.y(), own.z()), best_sq, best, best_bary);
+  if (own_in_block) scan_cell(p, cell_index(own.x(), own.y(), own.z()), nearest);
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {
         const size_t c = cell_index(x, y, z);
         if (cell_offsets_[c] == cell_offsets_[c + 1] || (own_in_block && Eigen::Vector3i(x, y, z) == own)) continue;
-        // Skip a cell whose box is farther than the best distance so far.
-        if (cell_box_distance_sq(p, x, y, z) > best_sq) continue;
-        scan_cell(p, c, best_sq, best, best_bary);
+        // Skip a cell whose box is farther than the best distance so far (and its near ties).
+        if (cell_box_distance_sq(p, x, y, z) > nearest.best_sq * kNearTie * kNearTie) continue;
+        scan_cell(p, c, nearest);
       }
-  r_closest.triangle = best;
-  r_closest.bary = best_bary;
-  const float distance = std::sqrt(best_sq);
-  if (distance > gap) {
-    r_distance = gap;
+  r_closest.triangle = nearest.best;
+  r_closest.bary = nearest.best_bary;
+  const float distance = std::sqrt(nearest.best_sq);
+  if (distance * kNearTie > gap) {
+    r_distance = std::min(distance, gap);
     return false;
   }
-  r_distance = signed_at(p, distance, r_closest);
+  r_distance = signed_at(p, nearest, r_closest);
   return true;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -52,14 +53,26 @@ class SkinGrid {
   }
   /// Corner i of triangle f.
   const Eigen::Vector3f &vertex(int f, int i) const { return mesh_.positions[size_t(mesh_.triangles[size_t(f)][i])]; }
-  /// The signed distance of p at unsigned `distance` from its closest point r_closest (which the
-  /// tree's answer replaces where the side is ill-conditioned).
-  float signed_at(const Eigen::Vector3f &p, float distance, SurfacePoint &r_closest) const;
+  /// The nearest triangle a search has found, and the nearest other one (its runner-up).
+  struct Nearest {
+    float best_sq = INFINITY;
+    int best = -1;
+    Eigen::Vector3f best_bary = Eigen::Vector3f::Zero();
+    float second_sq = INFINITY;
+    int second = -1;
+    Eigen::Vector3f second_bary = Eigen::Vector3f::Zero();
+  };
+  /// The signed distance of p from a finished search (r_closest set from it). The tree's answer,
+  /// MeshQuery::signed_distance, replaces it where the side is ill-conditioned: the interpolated
+  /// normal nearly perpendicular to the offset, or a runner-up at a near tie on the other side (p
+  /// between two parts of the skin that overlap), so that every part of Plume agrees on the side.
+  float signed_at(const Eigen::Vector3f &p, const Nearest &nearest, SurfacePoint &r_closest) const;
   /// Closest point of triangle `hint` to p and its squared distance; false when there is no hint, or
   /// the hint is degenerate (then the caller queries the whole mesh).
   bool hint_distance(const Eigen::Vector3f &p, int hint, Eigen::Vector3f &r_bary, float &r_distance_sq) const;
-  /// Tests the triangles of cell `c` against p, keeping the closest (ties: lowest triangle index).
-  void scan_cell(const Eigen::Vector3f &p, size_t c, float &r_best_sq, int &r_best, Eigen::Vector3f &r_best_bary) const;
+  /// Tests the triangles of cell `c` against p, keeping the closest (ties: lowest triangle index)
+  /// and the runner-up when it is within a near tie of the closest.
+  void scan_cell(const Eigen::Vector3f &p, size_t c, Nearest &r_nearest) const;
 
   const Mesh &mesh_;
   const MeshQuery &query_;

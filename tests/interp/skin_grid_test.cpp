@@ -147,3 +147,41 @@ TEST_CASE("on Sintel's head, folds at the ears included, no strand point ends in
   }
   CHECK(on_folds > 50);
 }
+
+// Two layers of skin 0.03 apart, both facing +z (like a flap lying over the head): a point between
+// them is outside the lower one and inside the upper one, and halfway it is as close to both. The
+// grid must then give the tree's side, or growth and the checker would disagree about "inside".
+TEST_CASE("skin grid: between two overlapping layers the side is the tree's", "[interp]") {
+  Mesh mesh;
+  for (const float z : {0.0f, 0.03f}) {
+    const int first = int(mesh.positions.size());
+    for (int j = 0; j <= 8; ++j)
+      for (int i = 0; i <= 8; ++i) mesh.positions.emplace_back(0.25f * float(i) - 1.0f, 0.25f * float(j) - 1.0f, z);
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        const int a = first + j * 9 + i;
+        mesh.triangles.emplace_back(a, a + 1, a + 10);
+        mesh.triangles.emplace_back(a, a + 10, a + 9);
+      }
+  }
+  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
+  mesh.group_names = {"default"};
+  mesh.compute_normals();
+  const MeshQuery query(mesh);
+  const interp::SkinGrid grid(mesh, query);
+  int disagree = 0, inside = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const uint64_t h = hash64(uint64_t(k) + 77);
+    // Halfway, and within rounding of halfway.
+    const float z = 0.015f + (k % 2 == 0 ? 0.0f : 1e-8f * (hash_to_unit(hash64(h + 2)) - 0.5f));
+    const Eigen::Vector3f p(1.6f * hash_to_unit(h) - 0.8f, 1.6f * hash_to_unit(hash64(h)) - 0.8f, z);
+    SurfacePoint truth, closest;
+    const float exact = query.signed_distance(p, &truth);
+    inside += exact < 0.0f;
+    disagree += (grid.signed_distance(p, (truth.triangle + 3) % int(mesh.triangle_count()), closest) < 0.0f) != (exact < 0.0f);
+    float local = 0.0f;
+    if (grid.local_signed_distance(p, truth.triangle, local, closest)) disagree += (local < 0.0f) != (exact < 0.0f);
+  }
+  CHECK(disagree == 0);
+  CHECK(inside > 0);  // the tree does put some of these points inside (the upper layer wins)
+}

@@ -15,6 +15,7 @@
 #include "groom/guides.h"
 #include "groom/mesh.h"
 #include "groom/mesh_query.h"
+#include "groom/groom_scene.h"
 #include "groom/test_fixtures.h"
 #include "groom/roots.h"
 #include "interp/effects.h"
@@ -23,23 +24,6 @@
 using namespace plume;
 
 namespace {
-
-/// 400 guides of 12 points: out along the normal, combed down (-y) toward the tip.
-StrandSet make_guides(const Mesh &mesh, const Roots &roots) {
-  StrandSet guides;
-  std::vector<Eigen::Vector3f> pts(12);
-  for (size_t g = 0; g < roots.size(); ++g) {
-    const SurfaceFrame f = surface_frame(mesh, roots.points[g]);
-    Eigen::Vector3f p = f.origin;
-    for (int j = 0; j < 12; ++j) {
-      pts[j] = p;
-      const float t = float(j) / 11.0f;
-      p += 0.06f * (f.normal() * (1.0f - t) - Eigen::Vector3f::UnitY() * t + 0.3f * f.basis.col(0)).normalized();
-    }
-    guides.append(pts, roots.ids[g]);
-  }
-  return guides;
-}
 
 std::vector<EffectDesc> full_stack() {
   auto make = [](EffectType type, float amount, uint64_t seed) {
@@ -100,7 +84,7 @@ int main(int argc, char **argv) {
   const Mesh rest = test::make_sphere(1.0f, 64, 128);
   const MeshQuery rest_query(rest);
   const Roots guide_roots = scatter_roots(rest, 400, 11);
-  const Guides guides = bind_guides(rest_query, make_guides(rest, guide_roots), "bench guides");
+  const Guides guides = bind_guides(rest_query, test::combed_guides(rest, guide_roots), "bench guides");
   const Roots roots = scatter_roots(rest, strand_count, 3);
   InterpolationSettings settings;
   const interp::Binding binding = interp::bind(rest, guides, roots, settings);

@@ -16,9 +16,7 @@
 #include "groom/roots.h"
 #include "interp/interpolate.h"
 #include "interp/parting_field.h"
-#include "io/groom_file.h"
-#include "io/obj_mesh.h"
-#include "io/strand_file.h"
+#include "groom/groom_scene.h"
 
 using namespace plume;
 
@@ -39,14 +37,12 @@ float distance_to_polyline(const std::vector<Eigen::Vector3f> &line, const Eigen
 
 int main() {
   const std::string path = std::string(PLUME_SOURCE_DIR) + "/grooms/sintel_parting/sintel_parting.groom.yaml";
-  const GroomDesc groom = io::read_groom_file(path);
-  const Mesh mesh = io::read_obj_mesh(groom.emitter_path);
-  const MeshQuery query(mesh);
-  const Guides guides = bind_guides(query, io::read_strands(groom.guides_path), groom.guides_path);
-  std::vector<Eigen::Vector3f> guide_roots(guides.size());
-  for (size_t g = 0; g < guides.size(); ++g) guide_roots[g] = surface_position(mesh, guides.roots[g]);
-  const Roots roots = scatter_roots(mesh, groom.roots.count, groom.roots.seed,
-                                    triangles_near(mesh, guide_roots, groom.roots.near_guides));
+  const test::GroomScene scene(path);
+  const GroomDesc &groom = scene.groom;
+  const Mesh &mesh = scene.mesh;
+  const MeshQuery &query = *scene.query;
+  const Guides &guides = scene.guides;
+  const Roots &roots = scene.roots;
 
   const interp::PartingField partings(mesh, guides, groom.partings);
   const interp::Binding plain = interp::bind(mesh, guides, roots, groom.interpolation);

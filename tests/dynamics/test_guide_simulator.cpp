@@ -66,6 +66,16 @@ double chain_energy(const GuideSimulator &sim, const Guides &guides, const Dynam
   return energy;
 }
 
+/// A chain that swings freely: no stiffness, no compensation, no drag, damping 0.2.
+DynamicsSettings free_swing_settings(int substeps) {
+  DynamicsSettings settings = test::quiet_settings(substeps);
+  settings.compensate_gravity = false;
+  settings.stiffness = Ramp::linear(0.0f, 0.0f);
+  settings.damping = 0.2f;
+  settings.drag = 0.0f;
+  return settings;
+}
+
 }  // namespace
 
 TEST_CASE("segment lengths stay within 1e-6 after 1000 steps with wind and collisions", "[dynamics]") {
@@ -127,11 +137,7 @@ TEST_CASE("damped energy of a swinging chain does not grow", "[dynamics]") {
   const Mesh head = test::sphere_mesh(kHeadRadius);
   const Guides guides = test::sphere_guides(head, kHeadRadius, {{1.0f, 0.0f, 0.0f}, {0.0f, 0.3f, -1.0f}}, 25, 15.0f, 0.0f);
   for (int substeps : {1, 4}) {
-    DynamicsSettings settings = test::quiet_settings(substeps);
-    settings.compensate_gravity = false;
-    settings.stiffness = Ramp::linear(0.0f, 0.0f);
-    settings.damping = 0.2f;
-    settings.drag = 0.0f;
+    const DynamicsSettings settings = free_swing_settings(substeps);
     GuideSimulator sim(head, guides, settings);
     sim.reset(head);
     const double start = chain_energy(sim, guides, settings);
@@ -156,11 +162,7 @@ TEST_CASE("the length projection of a swinging chain starts near the constraints
   // with a tangent-only first projection.
   const Mesh head = test::sphere_mesh(kHeadRadius);
   const Guides guides = test::sphere_guides(head, kHeadRadius, {{1.0f, 0.0f, 0.0f}, {0.0f, 0.3f, -1.0f}}, 25, 15.0f, 0.0f);
-  DynamicsSettings settings = test::quiet_settings(1);
-  settings.compensate_gravity = false;
-  settings.stiffness = Ramp::linear(0.0f, 0.0f);
-  settings.damping = 0.2f;
-  settings.drag = 0.0f;
+  const DynamicsSettings settings = free_swing_settings(1);
   GuideSimulator sim(head, guides, settings);
   sim.reset(head);
   for (int frame = 0; frame < 48; ++frame) sim.step_frame(head);

@@ -7,9 +7,7 @@
 #include "groom/mesh_query.h"
 #include "groom/roots.h"
 #include "groom/test_fixtures.h"
-#include "io/groom_file.h"
-#include "io/obj_mesh.h"
-#include "io/strand_file.h"
+#include "groom/groom_scene.h"
 #include "interp/check.h"
 #include "interp/interpolate.h"
 #include "interp/skin_grid.h"
@@ -29,23 +27,6 @@ std::vector<Eigen::Vector3f> shell_points(int count) {
     points.push_back(direction * (0.6f + 0.8f * hash_to_unit(hash64(h + 2))));
   }
   return points;
-}
-
-/// Guides out along the normal and combed down (-y) so that the strands lie close to the skin.
-StrandSet combed_guides(const Mesh &mesh, const Roots &roots) {
-  StrandSet guides;
-  std::vector<Eigen::Vector3f> pts(12);
-  for (size_t g = 0; g < roots.size(); ++g) {
-    const SurfaceFrame f = surface_frame(mesh, roots.points[g]);
-    Eigen::Vector3f p = f.origin;
-    for (int j = 0; j < 12; ++j) {
-      pts[size_t(j)] = p;
-      const float t = float(j) / 11.0f;
-      p += 0.06f * (f.normal() * (1.0f - t) - Eigen::Vector3f::UnitY() * t + 0.3f * f.basis.col(0)).normalized();
-    }
-    guides.append(pts, roots.ids[g]);
-  }
-  return guides;
 }
 
 }  // namespace
@@ -89,7 +70,7 @@ TEST_CASE("streamline growth's clearance is a lower bound of every point's dista
   const Mesh mesh = test::make_sphere(1.0f, 32, 64);
   const MeshQuery query(mesh);
   const Roots guide_roots = scatter_roots(mesh, 60, 11);
-  const Guides guides = bind_guides(query, combed_guides(mesh, guide_roots), "combed");
+  const Guides guides = bind_guides(query, test::combed_guides(mesh, guide_roots), "combed");
   const Roots roots = scatter_roots(mesh, 2000, 3);
   InterpolationSettings settings;
   settings.skin_margin = 0.01f;
@@ -121,14 +102,12 @@ TEST_CASE("streamline growth's clearance is a lower bound of every point's dista
 // the skin. Roots lifted along such normals, and points cleared by the distance bound right after a
 // push, used to end up inside there.
 TEST_CASE("on Sintel's head, folds at the ears included, no strand point ends inside the skin", "[interp]") {
-  const GroomDesc groom = io::read_groom_file(std::string(PLUME_SOURCE_DIR) + "/grooms/sintel/sintel.groom.yaml");
-  const Mesh mesh = io::read_obj_mesh(groom.emitter_path);
-  const MeshQuery query(mesh);
-  const Guides guides = bind_guides(query, io::read_strands(groom.guides_path), groom.guides_path);
-  std::vector<Eigen::Vector3f> guide_roots(guides.size());
-  for (size_t g = 0; g < guides.size(); ++g) guide_roots[g] = surface_position(mesh, guides.roots[g]);
-  const Roots roots = scatter_roots(mesh, groom.roots.count, groom.roots.seed,
-                                    triangles_near(mesh, guide_roots, groom.roots.near_guides));
+  const test::GroomScene scene(std::string(PLUME_SOURCE_DIR) + "/grooms/sintel/sintel.groom.yaml");
+  const GroomDesc &groom = scene.groom;
+  const Mesh &mesh = scene.mesh;
+  const MeshQuery &query = *scene.query;
+  const Guides &guides = scene.guides;
+  const Roots &roots = scene.roots;
   const interp::Binding binding = interp::bind(mesh, guides, roots, groom.interpolation);
   interp::GrowOptions options;
   options.points_per_strand = groom.points_per_strand;

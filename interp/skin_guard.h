@@ -52,11 +52,11 @@ class SkinGuard {
   /// whose vertex normals average its two sides, so the side of a point can change without crossing
   /// the skin and the Lipschitz bound would clear a point that the signed distance puts inside).
   void keep_out(Eigen::Vector3f &p, bool always_query = false) {
-    const float moved = (p - known_point_).norm();
     if (always_query) {
       query_and_push(p);
       return;
     }
+    const float moved = (p - known_point_).norm();
     if (known_distance_ - moved >= margin_) return;
     // Far from every triangle (grid bound) and no way to have crossed the skin since the last known
     // outside point: along q -> p the distance stays above (sd(q) + lower - moved) / 2 > 0.

@@ -34,13 +34,9 @@ void run_regrow(const RegrowArgs &args) {
   const FrameRange range = frames_to_produce(args.frames, groom);
   const std::string out = args.out.empty() ? groom.output.path_pattern : args.out;
   check_output_pattern(out, range, "--out", kStrandExtensions);
-  const std::string preview = args.preview.empty() ? groom.output.preview_pattern : args.preview;
-  const int preview_every = args.preview_every >= 0 ? args.preview_every : groom.output.preview_every;
-  // A preview pattern without a frame field gets the first frame only.
-  const bool preview_sequence = !preview.empty() && has_frame_field(preview);
-  if (!preview.empty())
-    check_output_pattern(preview, preview_sequence ? range : FrameRange{range.first, range.first, 1}, "--preview",
-                         {".png"});
+  const PreviewSchedule previews(args.preview.empty() ? groom.output.preview_pattern : args.preview,
+                                 args.preview_every >= 0 ? args.preview_every : groom.output.preview_every, range,
+                                 "--preview");
   set_thread_count(args.threads);
 
   PipelineOptions options;
@@ -66,12 +62,10 @@ void run_regrow(const RegrowArgs &args) {
     const FrameResult result = pipeline.produce(frame);
     write_options.time_code = frame;
     io::write_strands(expand_frame_pattern(out, frame), result.strands, write_options);
-    const bool preview_due = preview_every > 0 ? i % size_t(preview_every) == 0 : i == 0;
-    if (!preview.empty() && preview_due && (preview_sequence || i == 0)) {
-      const Image image = render_preview(camera, result.mesh, result.strands,
-                                         args.preview_guides ? &result.guides : nullptr, style, scalp);
-      write_png(expand_frame_pattern(preview, frame), image);
-    }
+    const std::string preview = previews.path_at(i, frame);
+    if (!preview.empty())
+      write_png(preview, render_preview(camera, result.mesh, result.strands,
+                                        args.preview_guides ? &result.guides : nullptr, style, scalp));
     progress.frame_done(frame);
   }
 }

@@ -31,10 +31,7 @@ void run_simulate(const SimulateArgs &args) {
   const FrameRange range = frames_to_produce(args.frames, groom);
   const std::string cache = args.cache.empty() ? groom.dynamics.cache_pattern : args.cache;
   check_output_pattern(cache, range, "--cache", {".hair", ".usda", ".ply", ".obj"});
-  const bool preview_sequence = !args.preview.empty() && has_frame_field(args.preview);
-  if (!args.preview.empty())
-    check_output_pattern(args.preview, preview_sequence ? range : FrameRange{range.first, range.first, 1},
-                         "--preview", {".png"});
+  const PreviewSchedule previews(args.preview, args.preview_every, range, "--preview");
   set_thread_count(args.threads);
 
   PipelineOptions options;
@@ -53,9 +50,8 @@ void run_simulate(const SimulateArgs &args) {
     const Mesh posed = pipeline.posed_mesh(frame);
     const StrandSet guides = pipeline.guides_at(frame, posed);
     write_guide_cache(expand_frame_pattern(cache, frame), guides, frame);
-    const bool preview_due = args.preview_every > 0 ? i % size_t(args.preview_every) == 0 : i == 0;
-    if (!args.preview.empty() && preview_due && (preview_sequence || i == 0))
-      write_png(expand_frame_pattern(args.preview, frame), render_preview(camera, posed, no_strands, &guides, style));
+    const std::string preview = previews.path_at(i, frame);
+    if (!preview.empty()) write_png(preview, render_preview(camera, posed, no_strands, &guides, style));
     progress.frame_done(frame);
   }
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <utility>
 
 #include "app/pipeline.h"
 #include "groom/error.h"
@@ -30,6 +31,18 @@ std::string extension_of(const std::string &path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
+}
+
+PreviewSchedule::PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what)
+    : pattern_(std::move(pattern)), every_(every), sequence_(!pattern_.empty() && has_frame_field(pattern_)) {
+  if (!pattern_.empty())
+    check_output_pattern(pattern_, sequence_ ? range : FrameRange{range.first, range.first, 1}, what, {".png"});
+}
+
+std::string PreviewSchedule::path_at(size_t i, int frame) const {
+  const bool due = every_ > 0 ? i % size_t(every_) == 0 : i == 0;
+  if (pattern_.empty() || !due || !(sequence_ || i == 0)) return {};
+  return expand_frame_pattern(pattern_, frame);
 }
 
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,

@@ -35,6 +35,21 @@ int groom_first_frame(const GroomDesc &groom);
 /// more than one frame) and ends with one of `extensions`. `what` names the option.
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
                           const std::vector<std::string> &extensions);
+/// Which frames of a range get a preview PNG, and where: every `every`-th frame of the range
+/// (0: the first only), and only the first when the pattern has no frame field.
+class PreviewSchedule {
+ public:
+  /// `pattern` empty: no previews. Otherwise checked as an output pattern (.png) for the frames it
+  /// will name; throws InputError naming `what` (the option).
+  PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what);
+  /// The preview path of frame `frame`, the i-th of the range, or empty when none is due.
+  std::string path_at(size_t i, int frame) const;
+
+ private:
+  std::string pattern_;
+  int every_;
+  bool sequence_;  // the pattern has a frame field
+};
 /// Lower-case extension with its dot (".usda"), empty when there is none.
 std::string extension_of(const std::string &path);
 /// The preview camera of a groom: fitted to the rest emitter and the rest guides, so that every

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <string>
 #include <vector>
@@ -115,6 +116,15 @@ int main(int argc, char **argv) {
       strands = grown;
       stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance);
     }
+    // A digest of the output's bits, to tell whether two builds give the same strands.
+    uint64_t digest = 0;
+    for (const Eigen::Vector3f &p : strands.positions)
+      for (int axis = 0; axis < 3; ++axis) {
+        uint32_t bits = 0;
+        std::memcpy(&bits, &p[axis], sizeof bits);
+        digest = hash_combine(digest, bits);
+      }
+    std::printf("stack output digest: %016llx\n", static_cast<unsigned long long>(digest));
     return 0;
   }  // growth's skin bounds, handed to the stack as the pipeline does
   std::vector<double> grow_only, grow_and_stack, stack_only, cpu_grow, cpu_stack;

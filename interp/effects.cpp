@@ -43,15 +43,21 @@ Eigen::Vector3f sample_at(std::span<const Eigen::Vector3f> pts, float t, Eigen::
 }
 
 /// Point of a polyline at arc length `s` given its cumulative lengths `cum` (cum[0] = 0); past the
-/// tip it continues straight along the last segment.
-Eigen::Vector3f point_at_length(std::span<const Eigen::Vector3f> pts, std::span<const float> cum, float s) {
+/// tip it continues straight along the last segment. `r_segment` is where the search starts, and is
+/// left at the segment found: a strand sampled at growing `s` walks each segment once. It must not
+/// be past the segment holding `s` (0 always works).
+Eigen::Vector3f point_at_length(std::span<const Eigen::Vector3f> pts, std::span<const float> cum, float s,
+                                int64_t &r_segment) {
   const int64_t n = int64_t(pts.size());
   if (s >= cum[n - 1]) {
     const Eigen::Vector3f last = pts[n - 1] - pts[n - 2];
     const float seg = last.norm();
     return seg > 0.0f ? Eigen::Vector3f(pts[n - 1] + last * ((s - cum[n - 1]) / seg)) : pts[n - 1];
   }
-  const int64_t k = std::upper_bound(cum.begin(), cum.begin() + n, s) - cum.begin() - 1;
+  // The last point at or before s (past any zero-length segments there).
+  int64_t k = r_segment;
+  while (k + 1 < n && cum[k + 1] <= s) ++k;
+  r_segment = k;
   const float seg = cum[k + 1] - cum[k];
   const float a = seg > 0.0f ? (s - cum[k]) / seg : 0.0f;
   return pts[k] + a * (pts[k + 1] - pts[k]);
@@ -206,6 +212,20 @@ struct Scratch {
   std::vector<float> cum;
 };
 
+/// An effect's ramp at the points of a strand, tabulated once per frame for the point count that
+/// grown strands share; strands of other counts evaluate the ramp itself (same values).
+struct RampSamples {
+  const Ramp *ramp = nullptr;
+  int64_t count = 0;
+  std::vector<float> values;  // ramp at strand_param(j, count), j < count
+
+  RampSamples(const Ramp &r, int64_t point_count) : ramp(&r), count(point_count), values(size_t(point_count)) {
+    for (int64_t j = 0; j < count; ++j) values[size_t(j)] = r.at(strand_param(j, count));
+  }
+  /// The ramp at point j of a strand of n points.
+  float at(int64_t j, int64_t n) const { return n == count ? values[size_t(j)] : ramp->at(strand_param(j, n)); }
+};
+
 }  // namespace
 
 struct EffectStack::Prepared {
@@ -310,21 +330,35 @@ namespace {
 /// Clump: d = P - C (C the centre strand at the same parameter t) becomes R(theta) (1 - w) d with
 /// w = strength * ramp(t) clamped to [0, 1] and R a rotation about the centre's tangent by
 /// theta = 2 pi * twist * strength * t. The centre strand is read as earlier effects left it.
-void apply_clump(const EffectStack::Prepared &e, size_t i, const StrandSet &strands, std::span<Eigen::Vector3f> pts) {
+void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i, const StrandSet &strands,
+                 std::span<Eigen::Vector3f> pts) {
   const float s = e.strength[i];
   const std::span<const Eigen::Vector3f> centre = strands.points(size_t(e.centre_of[i]));
   const int64_t n = int64_t(pts.size());
+  const bool same_count = centre.size() == pts.size();
+  // theta grows by the same angle from point to point: its cosine and sine follow by the
+  // angle-addition formulas, one rotation of (cos, sin) per point instead of two calls.
+  const float step_angle = kTwoPi * e.desc.clump_twist * s / float(n - 1);
+  const float cos_step = std::cos(step_angle), sin_step = std::sin(step_angle);
+  float cos_theta = 1.0f, sin_theta = 0.0f;
   for (int64_t j = 1; j < n; ++j) {
-    const float t = strand_param(j, n);
-    Eigen::Vector3f axis;
-    const Eigen::Vector3f c = sample_at(centre, t, &axis);
-    const float w = std::clamp(s * e.desc.ramp.at(t), 0.0f, 1.0f);
+    const float cos_next = cos_theta * cos_step - sin_theta * sin_step;
+    sin_theta = sin_theta * cos_step + cos_theta * sin_step;
+    cos_theta = cos_next;
+    // The centre at the same parameter, and its segment there: point j itself when the counts match.
+    Eigen::Vector3f axis, c;
+    if (same_count) {
+      const int64_t k = std::min(j, n - 2);
+      c = centre[size_t(j)];
+      axis = centre[size_t(k + 1)] - centre[size_t(k)];
+    } else {
+      c = sample_at(centre, strand_param(j, n), &axis);
+    }
+    const float w = std::clamp(s * ramp.at(j, n), 0.0f, 1.0f);
     Eigen::Vector3f d = (1.0f - w) * (pts[j] - c);
-    const float theta = kTwoPi * e.desc.clump_twist * s * t;
-    if (theta != 0.0f && axis.squaredNorm() > 0.0f) {
+    if (step_angle != 0.0f && axis.squaredNorm() > 0.0f) {
       // Rodrigues' formula on d alone (no matrix).
       const Eigen::Vector3f a = unit(axis);
-      const float cos_theta = std::cos(theta), sin_theta = std::sin(theta);
       d = cos_theta * d + sin_theta * a.cross(d) + ((1.0f - cos_theta) * a.dot(d)) * a;
     }
     pts[j] = c + d;
@@ -334,9 +368,9 @@ void apply_clump(const EffectStack::Prepared &e, size_t i, const StrandSet &stra
 /// Tension: the target is the nearest guide carried to the strand's root (minimal rotation taking the
 /// guide root's normal to the root's normal, offsets scaled to the strand's length, sampled at the same
 /// arc-length fraction); each point moves toward it by w = strength * ramp(t).
-void apply_tension(const EffectStack::Prepared &e, size_t i, std::span<const Eigen::Vector3f> guide,
-                   std::span<const float> guide_cum, const Eigen::Quaternionf &rotation,
-                   std::span<Eigen::Vector3f> pts, Scratch &scratch) {
+void apply_tension(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i,
+                   std::span<const Eigen::Vector3f> guide, std::span<const float> guide_cum,
+                   const Eigen::Matrix3f &rotation, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
   const float s = e.strength[i];
   const int64_t n = int64_t(pts.size());
   cumulative_lengths(pts, scratch.cum);
@@ -345,11 +379,12 @@ void apply_tension(const EffectStack::Prepared &e, size_t i, std::span<const Eig
   if (!(guide_length > 0.0f)) return;
   const float scale = length / guide_length;
   const Eigen::Vector3f root = pts[0];
+  int64_t segment = 0;
   for (int64_t j = 1; j < n; ++j) {
     const float t = strand_param(j, n);
-    const Eigen::Vector3f g = point_at_length(guide, guide_cum, t * guide_length);
+    const Eigen::Vector3f g = point_at_length(guide, guide_cum, t * guide_length, segment);
     const Eigen::Vector3f target = root + rotation * ((g - guide[0]) * scale);
-    const float w = std::clamp(s * e.desc.ramp.at(t), 0.0f, 1.0f);
+    const float w = std::clamp(s * ramp.at(j, n), 0.0f, 1.0f);
     pts[j] += w * (target - pts[j]);
   }
 }
@@ -390,15 +425,17 @@ void apply_length(const EffectStack::Prepared &e, size_t i, uint64_t id, const S
   float new_length = length + s * (target - length);
   new_length = std::max(new_length, kMinLengthFraction * length);
   if (new_length == length) return;
+  int64_t segment = 0;
   for (int64_t j = 1; j < n; ++j)
-    pts[j] = point_at_length(scratch.points, scratch.cum, new_length * strand_param(j, n));
+    pts[j] = point_at_length(scratch.points, scratch.cum, new_length * strand_param(j, n), segment);
 }
 
 /// Wave and frizz: each point p (root excluded) is expressed in its root's rest frame, q = R_rest (F_posed^-1 p);
 /// the displacement amplitude * strength * ramp(t) * noise(frequency * q + offset) is taken back to the posed
 /// frame and made perpendicular to the strand. Frizz adds a per-strand offset in the noise field, so
 /// neighbouring strands frizz independently; waves stay coherent between neighbours.
-void apply_noise(const EffectStack::Prepared &e, size_t i, uint64_t id, const SurfaceFrame &rest_frame,
+void apply_noise(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i, uint64_t id,
+                 const SurfaceFrame &rest_frame,
                  const SurfaceFrame &posed_frame, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
   const EffectDesc &d = e.desc;
   const float amplitude = d.amplitude * e.strength[i];
@@ -411,15 +448,28 @@ void apply_noise(const EffectStack::Prepared &e, size_t i, uint64_t id, const Su
   }
   // posed = posed_frame.basis * (rest_frame.basis^T (rest - rest_origin)) + posed_origin
   const Eigen::Matrix3f rest_to_posed = posed_frame.basis * rest_frame.basis.transpose();
-  for (int64_t j = 1; j < n; ++j) {
-    const float t = strand_param(j, n);
-    const float a = amplitude * d.ramp.at(t);
-    if (a == 0.0f) continue;
-    const Eigen::Vector3f q = rest_frame.origin + rest_to_posed.transpose() * (scratch.points[j] - posed_frame.origin);
-    Eigen::Vector3f disp = rest_to_posed * (a * e.noise.vector_at(d.frequency * q + offset));
-    const Eigen::Vector3f tangent = tangent_at(scratch.points, size_t(j));
-    disp -= tangent * tangent.dot(disp);
-    pts[j] = scratch.points[j] + disp;
+  // The noise is sampled four points at a time (SIMD lanes); a short last batch repeats its last point.
+  for (int64_t batch = 1; batch < n; batch += 4) {
+    float x[4], y[4], z[4], channels[3][4];
+    for (int64_t l = 0; l < 4; ++l) {
+      const int64_t j = std::min(batch + l, n - 1);
+      const Eigen::Vector3f q = rest_frame.origin + rest_to_posed.transpose() * (scratch.points[j] - posed_frame.origin);
+      const Eigen::Vector3f at = d.frequency * q + offset;
+      x[l] = at.x();
+      y[l] = at.y();
+      z[l] = at.z();
+    }
+    e.noise.vector_at4(x, y, z, channels);
+    for (int64_t l = 0; l < 4 && batch + l < n; ++l) {
+      const int64_t j = batch + l;
+      const float a = amplitude * ramp.at(j, n);
+      if (a == 0.0f) continue;
+      const Eigen::Vector3f noise(channels[0][l], channels[1][l], channels[2][l]);
+      Eigen::Vector3f disp = rest_to_posed * (a * noise);
+      const Eigen::Vector3f tangent = tangent_at(scratch.points, size_t(j));
+      disp -= tangent * tangent.dot(disp);
+      pts[j] = scratch.points[j] + disp;
+    }
   }
 }
 
@@ -427,8 +477,8 @@ void apply_noise(const EffectStack::Prepared &e, size_t i, uint64_t id, const Su
 /// double reflection (Wang et al. 2008) from U_0 = the root's surface tangent made perpendicular to the
 /// first tangent; point j moves by radius * strength * ramp(t) * (cos phi U + sin phi V) with
 /// phi = phi_0 + 2 pi * turns_per_unit * s_j (s_j arc length, phi_0 hashed from the id).
-void apply_curl(const EffectStack::Prepared &e, size_t i, uint64_t id, const SurfaceFrame &posed_frame,
-                std::span<Eigen::Vector3f> pts, Scratch &scratch) {
+void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i, uint64_t id,
+                const SurfaceFrame &posed_frame, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
   const EffectDesc &d = e.desc;
   const float radius = d.curl_radius * e.strength[i];
   const int64_t n = int64_t(pts.size());
@@ -456,7 +506,7 @@ void apply_curl(const EffectStack::Prepared &e, size_t i, uint64_t id, const Sur
       u = unit(u - t_cur * t_cur.dot(u));
     }
     t_prev = t_cur;
-    const float r = radius * d.ramp.at(strand_param(j, n));
+    const float r = radius * ramp.at(j, n);
     if (r == 0.0f) continue;
     const float phi = phase0 + kTwoPi * d.turns_per_unit * scratch.cum[j];
     const Eigen::Vector3f v = t_cur.cross(u);
@@ -475,6 +525,9 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     if (r_strands.points_in(size_t(i)) < 2) throw InternalError("EffectStack::apply: a strand has fewer than 2 points");
 
   if (effects_.empty()) return;
+  // Each effect's ramp at the points of a strand of the first strand's count (all, when grown).
+  std::vector<RampSamples> ramps;
+  for (const Prepared &e : effects_) ramps.emplace_back(e.desc.ramp, n > 0 ? r_strands.points_in(0) : 2);
   // The strands as growth left them, for the skin pass at the end.
   std::vector<Eigen::Vector3f> grown_positions(r_strands.positions.size());
 #pragma omp parallel for schedule(static)
@@ -542,7 +595,8 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       for (int64_t i = 0; i < n; ++i) {
         const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
         if (clump_pass) {
-          if (effects_[first].strength[i] != 0.0f) apply_clump(effects_[first], size_t(i), r_strands, pts);
+          if (effects_[first].strength[i] != 0.0f)
+            apply_clump(effects_[first], ramps[first], size_t(i), r_strands, pts);
         } else {
           bool frame_ready = false;
           SurfaceFrame posed_frame;
@@ -560,9 +614,10 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
                 const int32_t g = nearest_guide_[i];
                 const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
                                                  size_t(guides_this_frame.points_in(size_t(g))));
-                const Eigen::Quaternionf rotation =
-                    Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frame.normal());
-                apply_tension(e, size_t(i), guides_this_frame.points(size_t(g)), cum, rotation, pts, scratch);
+                const Eigen::Matrix3f rotation =
+                    Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frame.normal()).toRotationMatrix();
+                apply_tension(e, ramps[k], size_t(i), guides_this_frame.points(size_t(g)), cum, rotation, pts,
+                              scratch);
                 break;
               }
               case EffectType::length:
@@ -570,10 +625,10 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
                 break;
               case EffectType::wave:
               case EffectType::frizz:
-                apply_noise(e, size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
+                apply_noise(e, ramps[k], size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
                 break;
               case EffectType::curl:
-                apply_curl(e, size_t(i), ids_[i], posed_frame, pts, scratch);
+                apply_curl(e, ramps[k], size_t(i), ids_[i], posed_frame, pts, scratch);
                 break;
             }
           }

@@ -40,6 +40,10 @@ SimplexNoise3::SimplexNoise3(uint64_t seed) {
   for (int channel = 0; channel < 3; ++channel)
     for (int hash = 0; hash < 256; ++hash)
       gradient_of_[size_t(channel)][size_t(hash)] = uint8_t((channel == 0 ? hash : perm_[size_t(hash + 85 * channel)]) % 12);
+  for (size_t hash = 0; hash < 256; ++hash)
+    for (size_t channel = 0; channel < 3; ++channel)
+      for (size_t axis = 0; axis < 3; ++axis)
+        gradients_[hash][3 * channel + axis] = kGradients[gradient_of_[channel][hash]][axis];
 }
 
 namespace {
@@ -110,6 +114,72 @@ Eigen::Vector3f SimplexNoise3::vector_at(const Eigen::Vector3f &p) const {
   locate(perm_, p, simplex);
   return {channel_sum(simplex, gradient_of_[0]), channel_sum(simplex, gradient_of_[1]),
           channel_sum(simplex, gradient_of_[2])};
+}
+
+namespace {
+
+// Four lanes of floats or ints (GCC vector extensions: SSE2 on x86-64, whatever the target has elsewhere).
+typedef float Float4 __attribute__((vector_size(16)));
+typedef int32_t Int4 __attribute__((vector_size(16)));
+
+}  // namespace
+
+void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z[4], float r_channels[3][4]) const {
+  // locate() and channel_sum() above, lane by lane: every float operation is the scalar one, in the
+  // same order, so each lane gives vector_at's bits. Only the table lookups are done lane by lane.
+  Float4 px, py, pz;
+  for (int l = 0; l < 4; ++l) {
+    px[l] = x[l];
+    py[l] = y[l];
+    pz[l] = z[l];
+  }
+  const Float4 s = (px + py + pz) * kSkew;
+  // floor_to_int: truncate, then one less where that rounded up (a true comparison is -1).
+  auto floor4 = [](Float4 v) {
+    const Int4 truncated = __builtin_convertvector(v, Int4);
+    return truncated + (v < __builtin_convertvector(truncated, Float4));
+  };
+  const Int4 i = floor4(px + s), j = floor4(py + s), k = floor4(pz + s);
+  const Float4 t = __builtin_convertvector(i + j + k, Float4) * kUnskew;
+  const Float4 x0 = px - (__builtin_convertvector(i, Float4) - t);
+  const Float4 y0 = py - (__builtin_convertvector(j, Float4) - t);
+  const Float4 z0 = pz - (__builtin_convertvector(k, Float4) - t);
+
+  // Comparisons give -1 (true) or 0; & 1 makes the 0/1 corner steps.
+  const Int4 x_ge_y = x0 >= y0, y_ge_z = y0 >= z0, x_ge_z = x0 >= z0;
+  const Int4 i1 = x_ge_y & x_ge_z, j1 = ~x_ge_y & y_ge_z, k1 = ~(i1 | j1);
+  const Int4 z_least = y_ge_z & x_ge_z, y_least = x_ge_y & ~y_ge_z, x_least = ~(z_least | y_least);
+  const Int4 corner_x[4] = {Int4{} , i1 & 1, ~x_least & 1, Int4{} + 1};
+  const Int4 corner_y[4] = {Int4{}, j1 & 1, ~y_least & 1, Int4{} + 1};
+  const Int4 corner_z[4] = {Int4{}, k1 & 1, ~z_least & 1, Int4{} + 1};
+  const Int4 ii = i & 255, jj = j & 255, kk = k & 255;
+
+  Float4 sum[3] = {Float4{}, Float4{}, Float4{}};
+  for (int c = 0; c < 4; ++c) {
+    const Float4 dx = x0 - __builtin_convertvector(corner_x[c], Float4) + float(c) * kUnskew;
+    const Float4 dy = y0 - __builtin_convertvector(corner_y[c], Float4) + float(c) * kUnskew;
+    const Float4 dz = z0 - __builtin_convertvector(corner_z[c], Float4) + float(c) * kUnskew;
+    const Float4 reach = 0.5f - dx * dx - dy * dy - dz * dz;
+    const Float4 falloff = reach < 0.0f ? Float4{} : reach;
+    const Float4 f2 = falloff * falloff;
+    const Float4 kernel = f2 * f2;
+    // This corner's gradients in each lane, gathered from its hash.
+    Float4 gradient[9];
+    for (int l = 0; l < 4; ++l) {
+      const int hash = perm_[size_t(ii[l] + corner_x[c][l] +
+                                    perm_[size_t(jj[l] + corner_y[c][l] + perm_[size_t(kk[l] + corner_z[c][l])])])];
+      const std::array<float, 9> &g = gradients_[size_t(hash)];
+      for (int a = 0; a < 9; ++a) gradient[a][l] = g[size_t(a)];
+    }
+    for (int channel = 0; channel < 3; ++channel) {
+      const Float4 *g = gradient + 3 * channel;
+      sum[channel] += kernel * (g[0] * dx + g[1] * dy + g[2] * dz);
+    }
+  }
+  for (int channel = 0; channel < 3; ++channel) {
+    const Float4 value = kScale * sum[channel];
+    for (int l = 0; l < 4; ++l) r_channels[channel][l] = value[l];
+  }
 }
 
 }  // namespace plume::interp

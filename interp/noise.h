@@ -20,12 +20,18 @@ class SimplexNoise3 {
   float at(const Eigen::Vector3f &p) const;
   /// Three independent channels (same lattice, unrelated gradients), each in [-1, 1].
   Eigen::Vector3f vector_at(const Eigen::Vector3f &p) const;
+  /// vector_at at four points at once, in SIMD lanes: point l is (x[l], y[l], z[l]) and its channel c
+  /// goes to r_channels[c][l]. The same operations in the same order, so the same bits as vector_at.
+  void vector_at4(const float x[4], const float y[4], const float z[4], float r_channels[3][4]) const;
 
  private:
   std::array<uint8_t, 512> perm_;  // a shuffle of 0..255, stored twice to skip a wrap
   /// Per channel, the gradient index (0..11) of a corner hash: channel 0 reads hash % 12, channel c
   /// reads perm[hash + 85 c] % 12 (unrelated gradients from the same lattice walk).
   std::array<std::array<uint8_t, 256>, 3> gradient_of_;
+  /// The same gradients as vectors, per corner hash: gradients_[hash][3 c + axis] (one cache line
+  /// and a half per hash for all three channels; what vector_at4 gathers).
+  std::array<std::array<float, 9>, 256> gradients_;
 };
 
 }  // namespace plume::interp

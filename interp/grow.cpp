@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <span>
 #include <string>
@@ -8,21 +9,30 @@
 #include "interp/interpolate.h"
 #include "interp/skin_guard.h"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace plume::interp {
 
 namespace {
 
-/// One guide segment as streamline growth reads it, packed so that a window search touches one
-/// record per segment.
-struct GuideSegment {
-  Eigen::Vector3f start;      // first point
+/// One guide segment as streamline growth reads it: one cache line of four quads of four floats,
+/// (start, arc), (direction, length), (tangent_start, inverse_length), (tangent_end, curvature), so
+/// that the field loads a quad of four guides' segments at once and transposes it into lanes
+/// (load_quad).
+struct alignas(64) GuideSegment {
+  Eigen::Vector3f start;  // first point
+  float arc;              // arc length from the guide's first point to `start`
   Eigen::Vector3f direction;  // unit
-  Eigen::Vector3f tangent_start, tangent_end;  // continuous tangents at its two points
   float length;
-  float inverse_length;  // 1 / length, 0 for a zero-length segment
-  float arc;        // arc length from the guide's first point to `start`
+  Eigen::Vector3f tangent_start;  // continuous tangents at its two points
+  float inverse_length;           // 1 / length, 0 for a zero-length segment
+  Eigen::Vector3f tangent_end;
   float curvature;  // sustained curvature (see FrameGuides::segment_curvatures)
 };
+static_assert(sizeof(GuideSegment) == 16 * sizeof(float) && sizeof(Eigen::Vector3f) == 3 * sizeof(float),
+              "GuideSegment must be four packed quads of floats");
 
 /// The guides at one frame, prepared once per frame (never per strand).
 struct FrameGuides {
@@ -171,9 +181,15 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
       for (int64_t j = 0; j < frame.segment_offsets[g + 1] - first; ++j) {
         const size_t at = size_t(first + j);
         const float length = frame.segment_lengths[at];
-        frame.segments[at] = {points[size_t(j)], frame.segment_directions[at], tangents[j],        tangents[j + 1],
-                              length,            length > 0.0f ? 1.0f / length : 0.0f,         frame.segment_arcs[at],
-                              frame.segment_curvatures[at]};
+        GuideSegment &segment = frame.segments[at];
+        segment.start = points[size_t(j)];
+        segment.arc = frame.segment_arcs[at];
+        segment.direction = frame.segment_directions[at];
+        segment.length = length;
+        segment.tangent_start = tangents[j];
+        segment.inverse_length = length > 0.0f ? 1.0f / length : 0.0f;
+        segment.tangent_end = tangents[j + 1];
+        segment.curvature = frame.segment_curvatures[at];
       }
     }
   } else {
@@ -191,15 +207,72 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
   return frame;
 }
 
-/// One influencing guide of the strand being grown.
+/// One influencing guide of the strand being grown, as the binding gives it.
 struct Slot {
   int32_t guide;
   float weight;     // binding weight
   float influence;  // scale of the 1/d law (streamline)
   Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
-  int64_t segment;  // streamline: segment of the guide holding the last closest point
-  float arc_scale;  // streamline: guide length / strand length
-  float distance;   // streamline: distance to the guide's chosen point at the last evaluation
+};
+
+// Four lanes of floats or ints (GCC vector extensions: SSE2 on x86-64, whatever the target has elsewhere).
+typedef float Float4 __attribute__((vector_size(16)));
+typedef int32_t Int4 __attribute__((vector_size(16)));
+
+Float4 sqrt4(Float4 v) {
+#ifdef __SSE2__
+  return _mm_sqrt_ps(v);
+#else
+  for (int l = 0; l < 4; ++l) v[l] = std::sqrt(v[l]);
+  return v;
+#endif
+}
+
+/// Whether any lane of a comparison (-1 true, 0 false) is true.
+bool any(Int4 mask) {
+#ifdef __SSE2__
+  return _mm_movemask_ps(_mm_castsi128_ps(__m128i(mask))) != 0;
+#else
+  return (mask[0] | mask[1] | mask[2] | mask[3]) != 0;
+#endif
+}
+
+/// Quad `quad` (0..3, see GuideSegment) of segment index[l] of segments[l] in each lane l, transposed:
+/// r[c] holds component c of the four lanes.
+void load_quad(const GuideSegment *const segments[4], Int4 index, int quad, Float4 r[4]) {
+  Float4 rows[4];
+  for (int l = 0; l < 4; ++l)
+    std::memcpy(&rows[l], reinterpret_cast<const float *>(segments[l] + index[l]) + 4 * quad, sizeof(Float4));
+  const Float4 low01 = __builtin_shufflevector(rows[0], rows[1], 0, 4, 1, 5);
+  const Float4 low23 = __builtin_shufflevector(rows[2], rows[3], 0, 4, 1, 5);
+  const Float4 high01 = __builtin_shufflevector(rows[0], rows[1], 2, 6, 3, 7);
+  const Float4 high23 = __builtin_shufflevector(rows[2], rows[3], 2, 6, 3, 7);
+  r[0] = __builtin_shufflevector(low01, low23, 0, 1, 4, 5);
+  r[1] = __builtin_shufflevector(low01, low23, 2, 3, 6, 7);
+  r[2] = __builtin_shufflevector(high01, high23, 0, 1, 4, 5);
+  r[3] = __builtin_shufflevector(high01, high23, 2, 3, 6, 7);
+}
+
+/// The influencing guides of one strand as the streamline field walks them, four to a group (one
+/// guide per lane). Lanes past the last guide repeat the group's first lane and are left out of the
+/// blend.
+struct StreamlineSlots {
+  static constexpr int max_groups = (max_influences + 3) / 4;
+  /// What the field keeps of one evaluation for the next, per lane.
+  struct Progress {
+    Int4 segment;  // segment of the guide holding the last closest point
+    Float4 pace;   // the pace term's lambda for the next evaluation (see StreamlineField)
+  };
+  struct Group {
+    const GuideSegment *segments[4];  // the guide's first segment
+    Int4 segment_count;
+    Float4 influence;  // scale of the 1/d law
+    Float4 arc_scale;  // guide length / strand length
+  };
+  int used = 0;  // guides
+  int group_count = 0;
+  Group groups[max_groups];
+  Progress progress[max_groups];
 };
 
 /// Streamline direction field at `p`: on each guide, the closest point within a window moving
@@ -208,29 +281,40 @@ struct Slot {
 /// between two straight guides meeting at an angle, sin(a - phi) e_0 + sin(phi) e_a is parallel to
 /// e_phi (sine rule), so the blended direction points along the ray of constant ratio. Returns the unit
 /// direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
+///
+/// Four guides are searched at once, one per lane, each lane walking its own guide; the blend then
+/// adds them up one by one in slot order. Every lane does the float operations of a guide searched
+/// alone, in the same order (Eigen's dot products and norms add x + (y + z)), so the result does not
+/// depend on how the guides are grouped or on the lanes' width.
 struct StreamlineField {
   const FrameGuides &frame;
-  const StrandSet &guides;
   float window_arc;   // half width of the window in guide arc length (lookahead * step / 2)
   int lookahead;      // and at least this many segments
   float hit_distance_sq;
   float tie_sq;       // a later segment within this of the best wins (vertex ties go forward)
 
-  Eigen::Vector3f operator()(const Eigen::Vector3f &p, float arc, Slot *slots, int used,
+  Eigen::Vector3f operator()(const Eigen::Vector3f &p, float arc, StreamlineSlots &slots,
                              const Eigen::Vector3f &fallback, float *r_nearest = nullptr) const {
     Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
     float weight_sum = 0.0f, hit_sum = 0.0f, nearest_sq = INFINITY;
-    for (int s = 0; s < used; ++s) {
-      Slot &slot = slots[s];
-      const size_t g = size_t(slot.guide);
-      const int64_t first = frame.segment_offsets[g];
-      const int64_t count = frame.segment_offsets[g + 1] - first;
-      const GuideSegment *segments = frame.segments.data() + first;
+    const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z();
+    for (int group_index = 0; group_index < slots.group_count; ++group_index) {
+      const StreamlineSlots::Group &group = slots.groups[group_index];
+      StreamlineSlots::Progress &progress = slots.progress[group_index];
       // The window: from the last closest point (never backwards), over the guide arc around where a
       // strand keeping pace with the guide would be (arc * guide length / strand length).
-      const float expected = arc * slot.arc_scale;
-      int64_t start = slot.segment;
-      while (start + 1 < count && segments[start + 1].arc <= expected - window_arc) ++start;
+      const Float4 expected = arc * group.arc_scale;
+      const Float4 window_low = expected - window_arc, window_high = expected + window_arc;
+      Int4 start = progress.segment;
+      for (;;) {
+        const Int4 has_next = start + 1 < group.segment_count;
+        const Int4 next = start - has_next;
+        const Float4 next_arc = {group.segments[0][next[0]].arc, group.segments[1][next[1]].arc,
+                                 group.segments[2][next[2]].arc, group.segments[3][next[3]].arc};
+        const Int4 advance = has_next & (next_arc <= window_low);
+        if (!any(advance)) break;
+        start -= advance;
+      }
       // Farther from a curl than about its radius (1 / curvature), the squared distance along the
       // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
       // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
@@ -239,49 +323,78 @@ struct StreamlineField {
       // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
       // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
       // of distances needs. |p - q| is the previous evaluation's, half a step behind.
-      const float lambda = std::max(0.0f, 2.0f * segments[slot.segment].curvature * slot.distance - 0.5f);
-      const float inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : 1.0f;
-      // The cost is convex along the guide (the pace term above), so its minimum over each segment
-      // falls then rises along the window: walk forward from the window's first segment while the
-      // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment). Usually
-      // one or two segments are looked at instead of the whole window.
-      auto segment_cost = [&](int64_t j, float &r_t, float &r_distance_sq) {
-        const GuideSegment &segment = segments[j];
-        const Eigen::Vector3f offset = p - segment.start;
-        r_t = std::clamp((offset.dot(segment.direction) + lambda * (expected - segment.arc)) * inverse_one_plus_lambda,
-                         0.0f, segment.length);
-        r_distance_sq = (offset - r_t * segment.direction).squaredNorm();
-        const float lag = segment.arc + r_t - expected;
+      const Float4 lambda = progress.pace;
+      const Float4 inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float4{} + 1.0f;
+      // Segment j's cost in each lane: its point of least cost (at r_t along it), the squared
+      // distance there, and the segment's arc.
+      auto segment_cost = [&](Int4 j, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc) {
+        Float4 start_arc[4], direction_length[4];
+        load_quad(group.segments, j, 0, start_arc);
+        load_quad(group.segments, j, 1, direction_length);
+        const Float4 &segment_arc = start_arc[3], &length = direction_length[3];
+        r_arc = segment_arc;
+        const Float4 ox = px - start_arc[0], oy = py - start_arc[1], oz = pz - start_arc[2];
+        const Float4 dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
+        const Float4 t = (ox * dx + (oy * dy + oz * dz) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda;
+        r_t = t < 0.0f ? Float4{} : (length < t ? length : t);  // std::clamp(t, 0, length)
+        const Float4 ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
+        r_distance_sq = ex * ex + (ey * ey + ez * ez);
+        const Float4 lag = segment_arc + r_t - expected;
         return r_distance_sq + lambda * lag * lag;
       };
-      int64_t best = start;
-      float best_t = 0.0f, best_sq = 0.0f;
-      float best_cost = segment_cost(start, best_t, best_sq);
-      for (int64_t j = start + 1; j < count; ++j) {
-        if (j - start >= lookahead && segments[j].arc > expected + window_arc) break;
-        float t = 0.0f, distance_sq = 0.0f;
-        const float cost = segment_cost(j, t, distance_sq);
-        if (cost > best_cost + tie_sq) break;
-        best_cost = cost;
-        best_sq = distance_sq;
-        best = j;
-        best_t = t;
+      // The cost is convex along the guide (the pace term above), so its minimum over each segment
+      // falls then rises along the window: walk forward from the window's first segment while the
+      // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment), or
+      // until the window ends (past both `lookahead` segments and the window's arc). Usually one or
+      // two segments are looked at instead of the whole window; the lanes walk together while any
+      // of them still moves on.
+      const Int4 last = group.segment_count - 1;
+      Int4 best = start, candidate = start;
+      Float4 best_t, best_sq, start_arc;
+      Float4 best_cost = segment_cost(start, best_t, best_sq, start_arc);
+      Int4 walking = best < last;
+      while (any(walking)) {
+        // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
+        // others; counted apart from `best` so that the next loads need not wait for the costs.
+        candidate = candidate < last ? candidate + 1 : candidate;
+        Float4 t, distance_sq, segment_arc;
+        const Float4 cost = segment_cost(candidate, t, distance_sq, segment_arc);
+        const Int4 in_window = (candidate - start < lookahead) | ~(segment_arc > window_high);
+        const Int4 take = walking & in_window & ~(cost > best_cost + tie_sq);
+        best_cost = take ? cost : best_cost;
+        best_sq = take ? distance_sq : best_sq;
+        best_t = take ? t : best_t;
+        best -= take;
+        walking = take & (best < last);
       }
-      slot.segment = best;
-      const float best_distance = std::sqrt(best_sq);
-      slot.distance = best_distance;
-      if (slot.influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq);
-      const GuideSegment &chosen = segments[best];
-      const float u = best_t * chosen.inverse_length;
-      const Eigen::Vector3f direction =
-          unit_or((1.0f - u) * chosen.tangent_start + u * chosen.tangent_end, chosen.direction);
-      if (best_sq <= hit_distance_sq) {
-        hit_blend += slot.influence * direction;
-        hit_sum += slot.influence;
-      } else if (hit_sum == 0.0f) {
-        const float w = slot.influence / best_distance;
-        blend += w * direction;
-        weight_sum += w;
+      progress.segment = best;
+      const Float4 best_distance = sqrt4(best_sq);
+      // The guides' tangents at the chosen points: linear along the segment between its two ends'.
+      Float4 direction_length[4], start_tangent[4], end_tangent[4];
+      load_quad(group.segments, best, 1, direction_length);
+      load_quad(group.segments, best, 2, start_tangent);
+      load_quad(group.segments, best, 3, end_tangent);
+      const Float4 u = best_t * start_tangent[3];
+      Float4 tangent[3];
+      for (int c = 0; c < 3; ++c) tangent[c] = (1.0f - u) * start_tangent[c] + u * end_tangent[c];
+      const Float4 norm = sqrt4(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
+      const Float4 inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
+      for (int c = 0; c < 3; ++c) tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
+      const Float4 weight = group.influence / best_distance;
+      const Float4 pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
+      progress.pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
+
+      for (int l = 0; l < 4 && 4 * group_index + l < slots.used; ++l) {
+        const float influence = group.influence[l];
+        if (influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq[l]);
+        const Eigen::Vector3f direction(tangent[0][l], tangent[1][l], tangent[2][l]);
+        if (best_sq[l] <= hit_distance_sq) {
+          hit_blend += influence * direction;
+          hit_sum += influence;
+        } else if (hit_sum == 0.0f) {
+          blend += weight[l] * direction;
+          weight_sum += weight[l];
+        }
       }
     }
     if (hit_sum > 0.0f) {
@@ -351,8 +464,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       // rotation conjugated by that motion, so carried guides move exactly rigidly.
       slots[used++] = {g, binding.weights[slot], binding.influence[slot],
                        root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
-                           frame.frames[size_t(g)].transpose(),
-                       0, 1.0f, 0.0f};
+                           frame.frames[size_t(g)].transpose()};
     }
     Eigen::Vector3f *points = r_strands.positions.data() + r * n;
 
@@ -408,16 +520,27 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     // Streamline-ratio growth.
     const float step = binding.lengths[size_t(r)] / float(n - 1);
     const StreamlineField field{frame,
-                                guides,
                                 0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
                                 std::max(settings.lookahead_segments, 1),
                                 std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
                                 (1e-5f * step) * (1e-5f * step)};
-    for (int s = 0; s < used; ++s) {
+    StreamlineSlots field_slots;
+    field_slots.used = used;
+    field_slots.group_count = (used + 3) / 4;
+    for (int lane = 0; lane < 4 * field_slots.group_count; ++lane) {
+      const int s = lane < used ? lane : lane & ~3;
       const size_t g = size_t(slots[s].guide);
-      const int64_t last = frame.segment_offsets[g + 1] - 1;
+      const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
       const float guide_length = frame.segment_arcs[size_t(last)] + frame.segment_lengths[size_t(last)];
-      slots[s].arc_scale = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
+      StreamlineSlots::Group &group = field_slots.groups[lane / 4];
+      StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
+      const int l = lane % 4;
+      group.segments[l] = frame.segments.data() + first;
+      group.segment_count[l] = int32_t(last + 1 - first);
+      group.influence[l] = slots[s].influence;
+      group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
+      progress.segment[l] = 0;
+      progress.pace[l] = 0.0f;  // no distance known yet
     }
     SkinGuard guard(query, settings.skin_margin, scale, skin_grid.get());
     guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
@@ -472,10 +595,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
         const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
         float middle_nearest = 0.0f;
-        Slot saved[max_influences];
-        std::copy(slots, slots + used, saved);
+        StreamlineSlots::Progress saved[StreamlineSlots::max_groups];
+        std::copy(field_slots.progress, field_slots.progress + field_slots.group_count, saved);
         const Eigen::Vector3f middle_direction =
-            field(middle, (float(i) + 0.5f) * step, slots, used, start_direction, &middle_nearest);
+            field(middle, (float(i) + 0.5f) * step, field_slots, start_direction, &middle_nearest);
         if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= kSmoothTurning * kSmoothTurning) {
           nearest = middle_nearest;
           points[i + 1] = advance(points[i], middle_direction);
@@ -485,9 +608,9 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
           continue;
         }
-        std::copy(saved, saved + used, slots);  // the full step searches the guides from where they were
+        std::copy(saved, saved + field_slots.group_count, field_slots.progress);  // the full step searches the guides from where they were
       }
-      Eigen::Vector3f start_direction = field(points[i], float(i) * step, slots, used, direction, &nearest);
+      Eigen::Vector3f start_direction = field(points[i], float(i) * step, field_slots, direction, &nearest);
       const int substeps = nearest > 0.0f && nearest < 0.5f * step
                                ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
                                : 1;
@@ -495,9 +618,9 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       Eigen::Vector3f p = points[i], last_direction = direction;
       for (int sub = 0; sub < substeps; ++sub) {
         const float arc = float(i) * step + float(sub) * substep;
-        if (sub > 0) start_direction = field(p, arc, slots, used, last_direction);
+        if (sub > 0) start_direction = field(p, arc, field_slots, last_direction);
         const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
-        last_direction = field(middle, arc + 0.5f * substep, slots, used, start_direction, &nearest);
+        last_direction = field(middle, arc + 0.5f * substep, field_slots, start_direction, &nearest);
         p += substep * last_direction;
       }
       points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));

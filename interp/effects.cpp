@@ -498,12 +498,14 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t 
     const Eigen::Vector3f v1 = p[j] - p[j - 1];
     const float c1 = v1.squaredNorm();
     if (c1 > 0.0f) {
+      // Reflections keep lengths and angles, so u stays a unit vector perpendicular to the tangent
+      // (to rounding: about 1e-7 per point) without normalising it again, which would put a square
+      // root and a division on the chain that links each point's u to the last one's.
       const Eigen::Vector3f u_l = u - (2.0f / c1) * v1.dot(u) * v1;
       const Eigen::Vector3f t_l = t_prev - (2.0f / c1) * v1.dot(t_prev) * v1;
       const Eigen::Vector3f v2 = t_cur - t_l;
       const float c2 = v2.squaredNorm();
       u = c2 > 1e-12f ? Eigen::Vector3f(u_l - (2.0f / c2) * v2.dot(u_l) * v2) : u_l;
-      u = unit(u - t_cur * t_cur.dot(u));
     }
     t_prev = t_cur;
     const float r = radius * ramp.at(j, n);

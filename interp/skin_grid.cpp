@@ -144,11 +144,12 @@ float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {
 
 float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
   if (cell_triangles_.empty()) return 0.0f;
-  Eigen::Vector3i lo, hi;
+  Eigen::Vector3i lo, hi, own;
   float bound_sq = INFINITY;
   for (int a = 0; a < 3; ++a) {
     const float local = (p[a] - origin_[a]) / cell_size_;
     const int cell = std::clamp(int(std::floor(local)), 0, dims_[a] - 1);
+    own[a] = cell;
     lo[a] = std::max(cell - 1, 0);
     hi[a] = std::min(cell + 1, dims_[a] - 1);
     // Cells outside the grid hold no triangle; inside it, the block's faces bound the rest.
@@ -156,6 +157,11 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
     if (hi[a] < dims_[a] - 1)
       bound_sq = std::min(bound_sq, std::pow(std::max(float(hi[a] + 1) - local, 0.0f) * cell_size_, 2.0f));
   }
+  // When p's own cell (clamped to the grid) holds a triangle, its box is the nearest of all boxes:
+  // no need to look at the others (0 inside it).
+  const size_t own_cell = cell_index(own.x(), own.y(), own.z());
+  if (cell_offsets_[own_cell] != cell_offsets_[own_cell + 1])
+    return std::sqrt(cell_box_distance_sq(p, own.x(), own.y(), own.z()));
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {

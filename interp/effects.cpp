@@ -210,7 +210,17 @@ std::vector<int32_t> guide_clumps(const std::vector<Eigen::Vector3f> &rest_roots
 struct Scratch {
   std::vector<Eigen::Vector3f> points;
   std::vector<float> cum;
+  std::vector<Eigen::Vector3f> guide_offsets;
 };
+
+/// The points of a guide at the parameters of a strand of `count` points (j / (count - 1) of the
+/// guide's length, whose cumulative lengths are `cum`), as offsets from the guide's first point.
+void guide_offsets_at(std::span<const Eigen::Vector3f> guide, std::span<const float> cum, int64_t count,
+                      Eigen::Vector3f *r_offsets) {
+  int64_t segment = 0;
+  for (int64_t j = 0; j < count; ++j)
+    r_offsets[j] = point_at_length(guide, cum, strand_param(j, count) * cum.back(), segment) - guide[0];
+}
 
 /// An effect's ramp at the points of a strand, tabulated once per frame for the point count that
 /// grown strands share; strands of other counts evaluate the ramp itself (same values).
@@ -368,22 +378,21 @@ void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
 /// Tension: the target is the nearest guide carried to the strand's root (minimal rotation taking the
 /// guide root's normal to the root's normal, offsets scaled to the strand's length, sampled at the same
 /// arc-length fraction); each point moves toward it by w = strength * ramp(t).
+///
+/// `guide_offsets`: the guide at the strand's point parameters, from its first point (see
+/// guide_offsets_at), of `guide_length`; `rotation`: the minimal rotation above.
 void apply_tension(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i,
-                   std::span<const Eigen::Vector3f> guide, std::span<const float> guide_cum,
+                   std::span<const Eigen::Vector3f> guide_offsets, float guide_length,
                    const Eigen::Matrix3f &rotation, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
   const float s = e.strength[i];
   const int64_t n = int64_t(pts.size());
   cumulative_lengths(pts, scratch.cum);
   const float length = scratch.cum[n - 1];
-  const float guide_length = guide_cum.back();
   if (!(guide_length > 0.0f)) return;
   const float scale = length / guide_length;
   const Eigen::Vector3f root = pts[0];
-  int64_t segment = 0;
   for (int64_t j = 1; j < n; ++j) {
-    const float t = strand_param(j, n);
-    const Eigen::Vector3f g = point_at_length(guide, guide_cum, t * guide_length, segment);
-    const Eigen::Vector3f target = root + rotation * ((g - guide[0]) * scale);
+    const Eigen::Vector3f target = root + rotation * (guide_offsets[size_t(j)] * scale);
     const float w = std::clamp(s * ramp.at(j, n), 0.0f, 1.0f);
     pts[j] += w * (target - pts[j]);
   }
@@ -541,17 +550,23 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   // Tension needs each guide's arc lengths and posed root normal once per frame.
   const bool any_tension = std::any_of(effects_.begin(), effects_.end(),
                                        [](const Prepared &e) { return e.desc.type == EffectType::tension; });
-  std::vector<float> guide_cum;
-  std::vector<Eigen::Vector3f> guide_normals;
+  // Per guide: arc lengths, its length, its posed root normal, and its points at the parameters of
+  // a strand of the common point count (all strands share them: looked up, not searched, per strand).
+  const int64_t common_count = ramps.front().count;
+  std::vector<float> guide_cum, guide_lengths;
+  std::vector<Eigen::Vector3f> guide_normals, guide_offsets;
   if (any_tension) {
     if (guides_this_frame.strand_count() != guide_roots_.size())
       throw InternalError("EffectStack::apply: guide count differs from the binding");
     guide_cum.resize(guides_this_frame.point_count());
+    guide_offsets.resize(guide_roots_.size() * size_t(common_count));
     std::vector<float> cum;
     for (size_t g = 0; g < guide_roots_.size(); ++g) {
       cumulative_lengths(guides_this_frame.points(g), cum);
       std::copy(cum.begin(), cum.end(), guide_cum.begin() + guides_this_frame.offsets[g]);
+      guide_lengths.push_back(cum.back());
       guide_normals.push_back(surface_normal(posed_mesh, guide_roots_[g]));
+      guide_offsets_at(guides_this_frame.points(g), cum, common_count, guide_offsets.data() + g * size_t(common_count));
     }
   }
 
@@ -613,13 +628,19 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
               case EffectType::clump:
                 break;
               case EffectType::tension: {
-                const int32_t g = nearest_guide_[i];
-                const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
-                                                 size_t(guides_this_frame.points_in(size_t(g))));
+                const size_t g = size_t(nearest_guide_[i]);
+                std::span<const Eigen::Vector3f> offsets(guide_offsets.data() + g * size_t(common_count),
+                                                         size_t(common_count));
+                if (int64_t(pts.size()) != common_count) {
+                  const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
+                                                   size_t(guides_this_frame.points_in(g)));
+                  scratch.guide_offsets.resize(pts.size());
+                  guide_offsets_at(guides_this_frame.points(g), cum, int64_t(pts.size()), scratch.guide_offsets.data());
+                  offsets = scratch.guide_offsets;
+                }
                 const Eigen::Matrix3f rotation =
                     Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frame.normal()).toRotationMatrix();
-                apply_tension(e, ramps[k], size_t(i), guides_this_frame.points(size_t(g)), cum, rotation, pts,
-                              scratch);
+                apply_tension(e, ramps[k], size_t(i), offsets, guide_lengths[g], rotation, pts, scratch);
                 break;
               }
               case EffectType::length:

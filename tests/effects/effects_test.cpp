@@ -304,6 +304,38 @@ TEST_CASE("tension at full strength turns a strand into its guide carried to its
   }
 }
 
+TEST_CASE("strands with another point count than the first get the same effects as when all share it",
+          "[effects]") {
+  // The stack tabulates ramps and guide shapes for the first strand's point count; the others
+  // take the direct path, which must give the same bits.
+  PlaneScene s;
+  s.guides = test::make_guides(s.mesh, s.query, 30, 0.5f, 0.6f);
+  s.nearest = test::nearest_guides(s.mesh, s.roots, s.guides);
+  EffectDesc tension = effect(EffectType::tension, 0.7f), wave = effect(EffectType::wave, 1.0f);
+  EffectDesc curl = effect(EffectType::curl, 1.0f), length = effect(EffectType::length, 1.0f);
+  for (EffectDesc *d : {&tension, &wave, &curl, &length}) d->ramp = Ramp{{0.0f, 0.3f, 1.0f}, {0.0f, 0.8f, 0.5f}};
+  const std::vector<EffectDesc> stack = {tension, wave, curl, length};
+  StrandSet mixed;
+  for (size_t i = 0; i < s.strands.strand_count(); ++i) {
+    const auto pts = s.strands.points(i);
+    std::vector<Eigen::Vector3f> points(pts.begin(), pts.end());
+    if (i == 0) {
+      points.resize(20);
+      for (int j = 0; j < 20; ++j) points[size_t(j)] = pts[0] + (pts.back() - pts[0]) * (float(j) / 19.0f);
+    }
+    mixed.append(points, s.strands.ids[i]);
+  }
+  const StrandSet all_same = run(stack, s);
+  const StrandSet with_other =
+      run(stack, s.mesh, s.query, s.roots, s.guides, s.nearest, s.guides.strands, mixed);
+  int differing = 0;
+  for (size_t i = 1; i < all_same.strand_count(); ++i)
+    for (int64_t j = 0; j < all_same.points_in(i); ++j)
+      differing += all_same.points(i)[size_t(j)] != with_other.points(i)[size_t(j)];
+  CHECK(differing == 0);
+  CHECK(!bit_identical(all_same, s.strands));
+}
+
 TEST_CASE("the measured length distribution matches the requested one (uniform and normal)", "[effects]") {
   const PlaneScene s;  // straight strands of length 0.5: lengths are exact after resampling
   const double base = 0.5;

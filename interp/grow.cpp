@@ -282,10 +282,12 @@ struct StreamlineSlots {
 /// e_phi (sine rule), so the blended direction points along the ray of constant ratio. Returns the unit
 /// direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
 ///
-/// Four guides are searched at once, one per lane, each lane walking its own guide; the blend then
-/// adds them up one by one in slot order. Every lane does the float operations of a guide searched
-/// alone, in the same order (Eigen's dot products and norms add x + (y + z)), so the result does not
-/// depend on how the guides are grouped or on the lanes' width.
+/// Four guides are searched at once, one per SIMD lane (the search is most of growth's time). The
+/// lanes walk their guides in step, a lane that has stopped masked out of the rest, so each picks the
+/// segment a search of its guide alone would: the same window start, pace term, ties and window end.
+/// Every lane does that search's float operations in the same order (Eigen's dot products and norms
+/// add x + (y + z); no fused multiply-add), and the blend adds the guides up one by one in slot
+/// order, so the result is the same to the bit as a guide-by-guide search.
 struct StreamlineField {
   const FrameGuides &frame;
   float window_arc;   // half width of the window in guide arc length (lookahead * step / 2)
@@ -350,8 +352,8 @@ struct StreamlineField {
       // of them still moves on.
       const Int4 last = group.segment_count - 1;
       Int4 best = start, candidate = start;
-      Float4 best_t, best_sq, start_arc;
-      Float4 best_cost = segment_cost(start, best_t, best_sq, start_arc);
+      Float4 best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
+      Float4 best_cost = segment_cost(start, best_t, best_sq, first_arc);
       Int4 walking = best < last;
       while (any(walking)) {
         // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
@@ -524,6 +526,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
                                 std::max(settings.lookahead_segments, 1),
                                 std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
                                 (1e-5f * step) * (1e-5f * step)};
+    // The field's slots: lanes past the last guide repeat their group's first lane.
     StreamlineSlots field_slots;
     field_slots.used = used;
     field_slots.group_count = (used + 3) / 4;

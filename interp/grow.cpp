@@ -265,8 +265,8 @@ struct StreamlineSlots {
   };
   struct Group {
     const GuideSegment *segments[4];  // the guide's first segment
-    Int4 segment_count;
-    Float4 influence;  // scale of the 1/d law
+    Int4 segment_count;  // segment indices along one guide fit 32 bits (the guide's points would not fit memory)
+    Float4 influence;    // scale of the 1/d law
     Float4 arc_scale;  // guide length / strand length
   };
   int used = 0;  // guides
@@ -611,7 +611,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
           continue;
         }
-        std::copy(saved, saved + field_slots.group_count, field_slots.progress);  // the full step searches the guides from where they were
+        // The full step searches the guides from where they were.
+        std::copy(saved, saved + field_slots.group_count, field_slots.progress);
       }
       Eigen::Vector3f start_direction = field(points[i], float(i) * step, field_slots, direction, &nearest);
       const int substeps = nearest > 0.0f && nearest < 0.5f * step

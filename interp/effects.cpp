@@ -455,15 +455,16 @@ void apply_noise(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
     const uint64_t h = hash_combine(hash_combine(d.seed, kSaltOffset), id);
     offset = Eigen::Vector3f(hash_to_unit(h), hash_to_unit(hash64(h)), hash_to_unit(hash64(h + 1))) * 256.0f;
   }
-  // posed = posed_frame.basis * (rest_frame.basis^T (rest - rest_origin)) + posed_origin
+  // posed = posed_frame.basis * (rest_frame.basis^T (rest - rest_origin)) + posed_origin, so the noise
+  // coordinates frequency * rest + offset are one affine map of the posed point: A p + b.
   const Eigen::Matrix3f rest_to_posed = posed_frame.basis * rest_frame.basis.transpose();
+  const Eigen::Matrix3f to_noise = d.frequency * rest_to_posed.transpose();
+  const Eigen::Vector3f noise_origin = d.frequency * rest_frame.origin + offset - to_noise * posed_frame.origin;
   // The noise is sampled four points at a time (SIMD lanes); a short last batch repeats its last point.
   for (int64_t batch = 1; batch < n; batch += 4) {
     float x[4], y[4], z[4], channels[3][4];
     for (int64_t l = 0; l < 4; ++l) {
-      const int64_t j = std::min(batch + l, n - 1);
-      const Eigen::Vector3f q = rest_frame.origin + rest_to_posed.transpose() * (scratch.points[j] - posed_frame.origin);
-      const Eigen::Vector3f at = d.frequency * q + offset;
+      const Eigen::Vector3f at = to_noise * scratch.points[std::min(batch + l, n - 1)] + noise_origin;
       x[l] = at.x();
       y[l] = at.y();
       z[l] = at.z();
@@ -475,8 +476,11 @@ void apply_noise(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
       if (a == 0.0f) continue;
       const Eigen::Vector3f noise(channels[0][l], channels[1][l], channels[2][l]);
       Eigen::Vector3f disp = rest_to_posed * (a * noise);
-      const Eigen::Vector3f tangent = tangent_at(scratch.points, size_t(j));
-      disp -= tangent * tangent.dot(disp);
+      // Perpendicular to the strand: the part along the chord through the neighbours removed (one
+      // division; no square root).
+      const Eigen::Vector3f chord = scratch.points[size_t(std::min(j + 1, n - 1))] - scratch.points[size_t(j - 1)];
+      const float chord_sq = chord.squaredNorm();
+      if (chord_sq > 0.0f) disp -= chord * (chord.dot(disp) / chord_sq);
       pts[j] = scratch.points[j] + disp;
     }
   }

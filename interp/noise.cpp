@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "groom/roots.h"
 
@@ -164,13 +165,15 @@ void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z
     const Float4 f2 = falloff * falloff;
     const Float4 kernel = f2 * f2;
     // This corner's gradients in each lane, gathered from its hash.
-    Float4 gradient[9];
+    alignas(16) float gathered[9][4];
     for (int l = 0; l < 4; ++l) {
       const int hash = perm_[size_t(ii[l] + corner_x[c][l] +
                                     perm_[size_t(jj[l] + corner_y[c][l] + perm_[size_t(kk[l] + corner_z[c][l])])])];
       const std::array<float, 9> &g = gradients_[size_t(hash)];
-      for (int a = 0; a < 9; ++a) gradient[a][l] = g[size_t(a)];
+      for (int a = 0; a < 9; ++a) gathered[a][l] = g[size_t(a)];
     }
+    Float4 gradient[9];
+    std::memcpy(gradient, gathered, sizeof gradient);
     for (int channel = 0; channel < 3; ++channel) {
       const Float4 *g = gradient + 3 * channel;
       sum[channel] += kernel * (g[0] * dx + g[1] * dy + g[2] * dz);

@@ -145,6 +145,10 @@ float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {
 float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
   if (cell_triangles_.empty()) return 0.0f;
   Eigen::Vector3i lo, hi, own;
+  // gap_sq[a][d + 1]: squared distance along axis a from p to the slab of the cell at offset d from
+  // p's own cell, so that the squared distance to the box of neighbour (dx, dy, dz) is the sum of
+  // three table entries. p may lie outside the grid (its cell clamped).
+  float gap_sq[3][3];
   float bound_sq = INFINITY;
   for (int a = 0; a < 3; ++a) {
     const float local = (p[a] - origin_[a]) / cell_size_;
@@ -152,23 +156,33 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
     own[a] = cell;
     lo[a] = std::max(cell - 1, 0);
     hi[a] = std::min(cell + 1, dims_[a] - 1);
+    const float below = std::max(local - float(cell), 0.0f) * cell_size_;
+    const float inside = std::max({float(cell) - local, local - float(cell + 1), 0.0f}) * cell_size_;
+    const float above = std::max(float(cell + 1) - local, 0.0f) * cell_size_;
+    gap_sq[a][0] = below * below;
+    gap_sq[a][1] = inside * inside;
+    gap_sq[a][2] = above * above;
     // Cells outside the grid hold no triangle; inside it, the block's faces bound the rest.
     if (lo[a] > 0) bound_sq = std::min(bound_sq, std::pow(std::max(local - float(lo[a]), 0.0f) * cell_size_, 2.0f));
     if (hi[a] < dims_[a] - 1)
       bound_sq = std::min(bound_sq, std::pow(std::max(float(hi[a] + 1) - local, 0.0f) * cell_size_, 2.0f));
   }
-  // When p's own cell (clamped to the grid) holds a triangle, its box is the nearest of all boxes:
-  // no need to look at the others (0 inside it).
   const size_t own_cell = cell_index(own.x(), own.y(), own.z());
+  // When p's own cell holds a triangle, its box is the nearest of all boxes; when no cell within
+  // one holds one (chessboard distance 2 or more), only the block's faces bound.
   if (cell_offsets_[own_cell] != cell_offsets_[own_cell + 1])
-    return std::sqrt(cell_box_distance_sq(p, own.x(), own.y(), own.z()));
-  for (int z = lo.z(); z <= hi.z(); ++z)
-    for (int y = lo.y(); y <= hi.y(); ++y)
-      for (int x = lo.x(); x <= hi.x(); ++x) {
-        const size_t c = cell_index(x, y, z);
-        if (cell_offsets_[c] == cell_offsets_[c + 1]) continue;
-        bound_sq = std::min(bound_sq, cell_box_distance_sq(p, x, y, z));
+    return std::sqrt(gap_sq[0][1] + gap_sq[1][1] + gap_sq[2][1]);
+  if (cell_distance_[own_cell] >= 2) return std::sqrt(bound_sq);
+  const int64_t stride_y = dims_.x(), stride_z = int64_t(dims_.x()) * dims_.y();
+  for (int dz = lo.z() - own.z(); dz <= hi.z() - own.z(); ++dz)
+    for (int dy = lo.y() - own.y(); dy <= hi.y() - own.y(); ++dy) {
+      const float yz_sq = gap_sq[1][dy + 1] + gap_sq[2][dz + 1];
+      const int64_t row = int64_t(own_cell) + dz * stride_z + dy * stride_y;
+      for (int dx = lo.x() - own.x(); dx <= hi.x() - own.x(); ++dx) {
+        const size_t c = size_t(row + dx);
+        if (cell_offsets_[c] != cell_offsets_[c + 1]) bound_sq = std::min(bound_sq, gap_sq[0][dx + 1] + yz_sq);
       }
+    }
   return std::sqrt(bound_sq);
 }
 

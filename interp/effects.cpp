@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "groom/error.h"
+#include "interp/lanes.h"
 #include "interp/noise.h"
 #include "interp/skin_grid.h"
 #include "interp/skin_guard.h"
@@ -211,6 +212,7 @@ struct Scratch {
   std::vector<Eigen::Vector3f> points;
   std::vector<float> cum;
   std::vector<Eigen::Vector3f> guide_offsets;
+  std::vector<float> sines, cosines;
 };
 
 /// The points of a guide at the parameters of a strand of `count` points (j / (count - 1) of the
@@ -244,6 +246,10 @@ struct EffectStack::Prepared {
   std::vector<float> strength;
   /// Clumps only: one per strand, the index of its centre strand (-1: none).
   std::vector<int32_t> centre_of;
+  /// Clumps only: the centre strands some strand is pulled toward (each once), and per strand the
+  /// index of its centre in that list (-1: not pulled).
+  std::vector<int32_t> centres;
+  std::vector<int32_t> centre_slot;
   SimplexNoise3 noise;
 
   explicit Prepared(const EffectDesc &d) : desc(d), noise(d.seed) {}
@@ -307,6 +313,17 @@ EffectStack::EffectStack(const std::vector<EffectDesc> &effects, const Mesh &res
           if (hash_to_unit(hash_combine(hash_combine(seed, kSaltStray), ids_[i])) < desc.stray_fraction)
             strength[i] = 0.0f;
         }
+        std::vector<int32_t> slot_of_centre(n, -1);
+        prepared.centre_slot.assign(n, -1);
+        for (size_t i = 0; i < n; ++i) {
+          if (strength[i] == 0.0f) continue;
+          int32_t &slot = slot_of_centre[size_t(prepared.centre_of[i])];
+          if (slot < 0) {
+            slot = int32_t(prepared.centres.size());
+            prepared.centres.push_back(prepared.centre_of[i]);
+          }
+          prepared.centre_slot[i] = slot;
+        }
         break;
       }
       case EffectType::tension:
@@ -337,15 +354,29 @@ const std::vector<int32_t> &EffectStack::clump_centres(size_t effect) const { re
 
 namespace {
 
+/// The unit direction of a centre strand's segment at each of its `count` point indices (the segment
+/// starting there, the last one at the tip; zero for a zero-length segment), shared by all the
+/// strands of its clump.
+void centre_axes(std::span<const Eigen::Vector3f> centre, Eigen::Vector3f *r_axes) {
+  const int64_t n = int64_t(centre.size());
+  for (int64_t j = 0; j < n; ++j) {
+    const int64_t k = std::min(j, n - 2);
+    r_axes[j] = unit(centre[size_t(k + 1)] - centre[size_t(k)]);
+  }
+}
+
 /// Clump: d = P - C (C the centre strand at the same parameter t) becomes R(theta) (1 - w) d with
 /// w = strength * ramp(t) clamped to [0, 1] and R a rotation about the centre's tangent by
 /// theta = 2 pi * twist * strength * t. The centre strand is read as earlier effects left it.
+///
+/// `unit_axes`: when the centre has as many points as the strand, its unit segment directions at
+/// each point index (see centre_axes), else null.
 void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i, const StrandSet &strands,
-                 std::span<Eigen::Vector3f> pts) {
+                 const Eigen::Vector3f *unit_axes, std::span<Eigen::Vector3f> pts) {
   const float s = e.strength[i];
   const std::span<const Eigen::Vector3f> centre = strands.points(size_t(e.centre_of[i]));
   const int64_t n = int64_t(pts.size());
-  const bool same_count = centre.size() == pts.size();
+  const bool same_count = unit_axes && centre.size() == pts.size();
   // theta grows by the same angle from point to point: its cosine and sine follow by the
   // angle-addition formulas, one rotation of (cos, sin) per point instead of two calls.
   const float step_angle = kTwoPi * e.desc.clump_twist * s / float(n - 1);
@@ -358,17 +389,17 @@ void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
     // The centre at the same parameter, and its segment there: point j itself when the counts match.
     Eigen::Vector3f axis, c;
     if (same_count) {
-      const int64_t k = std::min(j, n - 2);
       c = centre[size_t(j)];
-      axis = centre[size_t(k + 1)] - centre[size_t(k)];
+      axis = unit_axes[j];
     } else {
       c = sample_at(centre, strand_param(j, n), &axis);
+      axis = unit(axis);
     }
     const float w = std::clamp(s * ramp.at(j, n), 0.0f, 1.0f);
     Eigen::Vector3f d = (1.0f - w) * (pts[j] - c);
     if (step_angle != 0.0f && axis.squaredNorm() > 0.0f) {
-      // Rodrigues' formula on d alone (no matrix).
-      const Eigen::Vector3f a = unit(axis);
+      // Rodrigues' formula on d alone (no matrix), about the unit axis.
+      const Eigen::Vector3f &a = axis;
       d = cos_theta * d + sin_theta * a.cross(d) + ((1.0f - cos_theta) * a.dot(d)) * a;
     }
     pts[j] = c + d;
@@ -499,6 +530,18 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t 
   cumulative_lengths(scratch.points, scratch.cum);
   const std::span<const Eigen::Vector3f> p = scratch.points;
   const float phase0 = kTwoPi * hash_to_unit(hash_combine(hash_combine(d.seed, kSaltPhase), id));
+  // The helix angles depend on arc length only: their sines and cosines four at a time up front.
+  scratch.sines.resize(size_t(n + 3));
+  scratch.cosines.resize(size_t(n + 3));
+  for (int64_t j = 0; j < n; j += 4) {
+    Float4 phi, sine, cosine;
+    for (int64_t l = 0; l < 4; ++l) phi[l] = phase0 + kTwoPi * d.turns_per_unit * scratch.cum[size_t(std::min(j + l, n - 1))];
+    sin_cos4(phi, sine, cosine);
+    for (int64_t l = 0; l < 4; ++l) {
+      scratch.sines[size_t(j + l)] = sine[l];
+      scratch.cosines[size_t(j + l)] = cosine[l];
+    }
+  }
 
   Eigen::Vector3f t_prev = tangent_at(p, 0);
   Eigen::Vector3f u = posed_frame.basis.col(0) - t_prev * t_prev.dot(posed_frame.basis.col(0));
@@ -523,9 +566,8 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t 
     t_prev = t_cur;
     const float r = radius * ramp.at(j, n);
     if (r == 0.0f) continue;
-    const float phi = phase0 + kTwoPi * d.turns_per_unit * scratch.cum[j];
     const Eigen::Vector3f v = t_cur.cross(u);
-    pts[j] = p[j] + r * (std::cos(phi) * u + std::sin(phi) * v);
+    pts[j] = p[j] + r * (scratch.cosines[size_t(j)] * u + scratch.sines[size_t(j)] * v);
   }
 }
 
@@ -609,6 +651,19 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       while (last < effect_count && effects_[last].desc.type != EffectType::clump) ++last;
     const bool ends_stack = last == effect_count;
     const bool clump_pass = effects_[first].desc.type == EffectType::clump;
+    // A clump pass: each centre's unit segment directions once, for all its members (centres of
+    // the common point count; members of others compute their own).
+    std::vector<Eigen::Vector3f> axes;
+    if (clump_pass) {
+      const Prepared &e = effects_[first];
+      axes.resize(e.centres.size() * size_t(common_count));
+      const int64_t centre_count = int64_t(e.centres.size());
+#pragma omp parallel for schedule(static, 64)
+      for (int64_t c = 0; c < centre_count; ++c) {
+        const std::span<const Eigen::Vector3f> centre = r_strands.points(size_t(e.centres[size_t(c)]));
+        if (int64_t(centre.size()) == common_count) centre_axes(centre, axes.data() + c * common_count);
+      }
+    }
 #pragma omp parallel
     {
       Scratch scratch;
@@ -616,8 +671,13 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       for (int64_t i = 0; i < n; ++i) {
         const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
         if (clump_pass) {
-          if (effects_[first].strength[i] != 0.0f)
-            apply_clump(effects_[first], ramps[first], size_t(i), r_strands, pts);
+          const Prepared &e = effects_[first];
+          if (e.strength[i] != 0.0f) {
+            const int64_t slot = e.centre_slot[size_t(i)];
+            const bool tabulated = r_strands.points_in(size_t(e.centres[size_t(slot)])) == common_count;
+            apply_clump(e, ramps[first], size_t(i), r_strands, tabulated ? axes.data() + slot * common_count : nullptr,
+                        pts);
+          }
         } else {
           bool frame_ready = false;
           SurfaceFrame posed_frame;

@@ -7,6 +7,7 @@
 
 #include "groom/error.h"
 #include "interp/interpolate.h"
+#include "interp/lanes.h"
 #include "interp/skin_guard.h"
 
 #ifdef __SSE2__
@@ -214,10 +215,6 @@ struct Slot {
   float influence;  // scale of the 1/d law (streamline)
   Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
 };
-
-// Four lanes of floats or ints (GCC vector extensions: SSE2 on x86-64, whatever the target has elsewhere).
-typedef float Float4 __attribute__((vector_size(16)));
-typedef int32_t Int4 __attribute__((vector_size(16)));
 
 Float4 sqrt4(Float4 v) {
 #ifdef __SSE2__

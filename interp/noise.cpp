@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "groom/roots.h"
+#include "interp/lanes.h"
 
 namespace plume::interp {
 
@@ -116,14 +117,6 @@ Eigen::Vector3f SimplexNoise3::vector_at(const Eigen::Vector3f &p) const {
   return {channel_sum(simplex, gradient_of_[0]), channel_sum(simplex, gradient_of_[1]),
           channel_sum(simplex, gradient_of_[2])};
 }
-
-namespace {
-
-// Four lanes of floats or ints (GCC vector extensions: SSE2 on x86-64, whatever the target has elsewhere).
-typedef float Float4 __attribute__((vector_size(16)));
-typedef int32_t Int4 __attribute__((vector_size(16)));
-
-}  // namespace
 
 void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z[4], float r_channels[3][4]) const {
   // locate() and channel_sum() above, lane by lane: every float operation is the scalar one, in the

@@ -43,9 +43,8 @@ SimplexNoise3::SimplexNoise3(uint64_t seed) {
     for (int hash = 0; hash < 256; ++hash)
       gradient_of_[size_t(channel)][size_t(hash)] = uint8_t((channel == 0 ? hash : perm_[size_t(hash + 85 * channel)]) % 12);
   for (size_t hash = 0; hash < 256; ++hash)
-    for (size_t channel = 0; channel < 3; ++channel)
-      for (size_t axis = 0; axis < 3; ++axis)
-        gradients_[hash][3 * channel + axis] = kGradients[gradient_of_[channel][hash]][axis];
+    gradient_codes_[hash] = int32_t(gradient_of_[0][hash]) | int32_t(gradient_of_[1][hash]) << 8 |
+                            int32_t(gradient_of_[2][hash]) << 16;
 }
 
 namespace {
@@ -157,19 +156,20 @@ void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z
     const Float4 falloff = reach < 0.0f ? Float4{} : reach;
     const Float4 f2 = falloff * falloff;
     const Float4 kernel = f2 * f2;
-    // This corner's gradients in each lane, gathered from its hash.
-    alignas(16) float gathered[9][4];
-    for (int l = 0; l < 4; ++l) {
-      const int hash = perm_[size_t(ii[l] + corner_x[c][l] +
-                                    perm_[size_t(jj[l] + corner_y[c][l] + perm_[size_t(kk[l] + corner_z[c][l])])])];
-      const std::array<float, 9> &g = gradients_[size_t(hash)];
-      for (int a = 0; a < 9; ++a) gathered[a][l] = g[size_t(a)];
-    }
-    Float4 gradient[9];
-    std::memcpy(gradient, gathered, sizeof gradient);
+    // This corner's gradient indices in each lane (a byte per channel), from its hash.
+    Int4 codes;
+    for (int l = 0; l < 4; ++l)
+      codes[l] = gradient_codes_[size_t(perm_[size_t(ii[l] + corner_x[c][l] +
+                                                   perm_[size_t(jj[l] + corner_y[c][l] + perm_[size_t(kk[l] + corner_z[c][l])])])])];
     for (int channel = 0; channel < 3; ++channel) {
-      const Float4 *g = gradient + 3 * channel;
-      sum[channel] += kernel * (g[0] * dx + g[1] * dy + g[2] * dz);
+      // g . d for the twelve gradients (kGradients): index h < 4 is (+-1, +-1, 0), h < 8 is
+      // (+-1, 0, +-1), else (0, +-1, +-1); bit 0 of h negates the first non-zero component, bit 1
+      // the second. The same value as the dot product, without reading the gradient.
+      const Int4 h = (codes >> (8 * channel)) & 255;
+      const Float4 first_term = h < 8 ? dx : dy, second_term = h < 4 ? dy : dz;
+      const Float4 signed_first = (Float4)((Int4)first_term ^ ((h & 1) << 31));
+      const Float4 signed_second = (Float4)((Int4)second_term ^ ((h & 2) << 30));
+      sum[channel] += kernel * (signed_first + signed_second);
     }
   }
   for (int channel = 0; channel < 3; ++channel) {

@@ -29,9 +29,9 @@ class SimplexNoise3 {
   /// Per channel, the gradient index (0..11) of a corner hash: channel 0 reads hash % 12, channel c
   /// reads perm[hash + 85 c] % 12 (unrelated gradients from the same lattice walk).
   std::array<std::array<uint8_t, 256>, 3> gradient_of_;
-  /// The same gradients as vectors, per corner hash: gradients_[hash][3 c + axis] (one cache line
-  /// and a half per hash for all three channels; what vector_at4 gathers).
-  std::array<std::array<float, 9>, 256> gradients_;
+  /// The same per corner hash, the three channels' gradient indices in one word (byte c for
+  /// channel c): what vector_at4 gathers.
+  std::array<int32_t, 256> gradient_codes_;
 };
 
 }  // namespace plume::interp

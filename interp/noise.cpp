@@ -146,6 +146,9 @@ void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z
   const Int4 corner_y[4] = {Int4{}, j1 & 1, ~y_least & 1, Int4{} + 1};
   const Int4 corner_z[4] = {Int4{}, k1 & 1, ~z_least & 1, Int4{} + 1};
   const Int4 ii = i & 255, jj = j & 255, kk = k & 255;
+  const Int4 ii_corner[4] = {ii + corner_x[0], ii + corner_x[1], ii + corner_x[2], ii + corner_x[3]};
+  const Int4 jj_corner[4] = {jj + corner_y[0], jj + corner_y[1], jj + corner_y[2], jj + corner_y[3]};
+  const Int4 kk_corner[4] = {kk + corner_z[0], kk + corner_z[1], kk + corner_z[2], kk + corner_z[3]};
 
   Float4 sum[3] = {Float4{}, Float4{}, Float4{}};
   for (int c = 0; c < 4; ++c) {
@@ -156,11 +159,16 @@ void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z
     const Float4 falloff = reach < 0.0f ? Float4{} : reach;
     const Float4 f2 = falloff * falloff;
     const Float4 kernel = f2 * f2;
-    // This corner's gradient indices in each lane (a byte per channel), from its hash.
-    Int4 codes;
+    // This corner's gradient indices in each lane (a byte per channel), from its hash. The lattice
+    // indices go through memory once, so the lookups read plain ints instead of lanes one by one.
+    alignas(16) int32_t x_index[4], y_index[4], z_index[4], code[4];
+    std::memcpy(x_index, &(ii_corner[c]), sizeof x_index);
+    std::memcpy(y_index, &(jj_corner[c]), sizeof y_index);
+    std::memcpy(z_index, &(kk_corner[c]), sizeof z_index);
     for (int l = 0; l < 4; ++l)
-      codes[l] = gradient_codes_[size_t(perm_[size_t(ii[l] + corner_x[c][l] +
-                                                   perm_[size_t(jj[l] + corner_y[c][l] + perm_[size_t(kk[l] + corner_z[c][l])])])])];
+      code[l] = gradient_codes_[perm_[size_t(x_index[l] + perm_[size_t(y_index[l] + perm_[size_t(z_index[l])])])]];
+    Int4 codes;
+    std::memcpy(&codes, code, sizeof codes);
     for (int channel = 0; channel < 3; ++channel) {
       // g . d for the twelve gradients (kGradients): index h < 4 is (+-1, +-1, 0), h < 8 is
       // (+-1, 0, +-1), else (0, +-1, +-1); bit 0 of h negates the first non-zero component, bit 1

@@ -216,15 +216,6 @@ struct Slot {
   Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
 };
 
-Float4 sqrt4(Float4 v) {
-#ifdef __SSE2__
-  return _mm_sqrt_ps(v);
-#else
-  for (int l = 0; l < 4; ++l) v[l] = std::sqrt(v[l]);
-  return v;
-#endif
-}
-
 /// Whether any lane of a comparison (-1 true, 0 false) is true.
 bool any(Int4 mask) {
 #ifdef __SSE2__

@@ -2,12 +2,26 @@
 // elsewhere) and the few lane-wise functions interp/ needs. Internal to interp/.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace plume::interp {
 
 typedef float Float4 __attribute__((vector_size(16)));
 typedef int32_t Int4 __attribute__((vector_size(16)));
+
+/// Square root of each lane (correctly rounded, as std::sqrt).
+inline Float4 sqrt4(Float4 v) {
+#ifdef __SSE2__
+  return _mm_sqrt_ps(v);
+#else
+  for (int l = 0; l < 4; ++l) v[l] = std::sqrt(v[l]);
+  return v;
+#endif
+}
 
 /// Sine and cosine of four angles (radians) with only adds, multiplies and one conversion: the same
 /// bits on every machine, unlike the C library's, whose code differs with the processor. The angle

@@ -83,11 +83,23 @@ Eigen::Vector3f tangent_at(std::span<const Eigen::Vector3f> pts, size_t j) {
   return unit(pts[b] - pts[a]);
 }
 
-/// Standard normal draw from two hashes (Box-Muller).
+/// Sine and cosine of one angle, with interp/lanes.h's functions: no C library call, so the same
+/// bits on every machine (as the stack promises).
+void sin_cos(float x, float &r_sin, float &r_cos) {
+  Float4 sine, cosine;
+  sin_cos4(Float4{} + x, sine, cosine);
+  r_sin = sine[0];
+  r_cos = cosine[0];
+}
+
+/// Standard normal draw from two hashes (Box-Muller), with no C library call but the square root
+/// (correctly rounded everywhere).
 float normal_from_hash(uint64_t h) {
   const float u1 = std::max(hash_to_unit(h), 1e-7f);
   const float u2 = hash_to_unit(hash64(h));
-  return std::sqrt(-2.0f * std::log(u1)) * std::cos(kTwoPi * u2);
+  float sine = 0.0f, cosine = 0.0f;
+  sin_cos(kTwoPi * u2, sine, cosine);
+  return std::sqrt(-2.0f * log4(Float4{} + u1)[0]) * cosine;
 }
 
 /// Reads an emitter vertex map: one finite number per line ('#' starts a comment, blank lines are
@@ -380,7 +392,8 @@ void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
   // theta grows by the same angle from point to point: its cosine and sine follow by the
   // angle-addition formulas, one rotation of (cos, sin) per point instead of two calls.
   const float step_angle = kTwoPi * e.desc.clump_twist * s / float(n - 1);
-  const float cos_step = std::cos(step_angle), sin_step = std::sin(step_angle);
+  float cos_step = 1.0f, sin_step = 0.0f;
+  sin_cos(step_angle, sin_step, cos_step);
   float cos_theta = 1.0f, sin_theta = 0.0f;
   for (int64_t j = 1; j < n; ++j) {
     const float cos_next = cos_theta * cos_step - sin_theta * sin_step;

@@ -48,4 +48,32 @@ inline void sin_cos4(Float4 x, Float4 &r_sin, Float4 &r_cos) {
   r_cos = (k == 1) | (k == 2) ? -c : c;
 }
 
+/// Natural logarithm of four positive, finite, normal numbers with only exact bit operations,
+/// adds and multiplies (the same bits on every machine): x = m 2^e with m in [sqrt(1/2), sqrt(2)),
+/// then Cephes' logf polynomial in m - 1. Relative error below 1e-7 (tested).
+inline Float4 log4(Float4 x) {
+  const Int4 bits = (Int4)x;
+  // Exponent and mantissa in [1, 2); a mantissa above sqrt(2) is halved (and the exponent raised).
+  Int4 exponent = ((bits >> 23) & 255) - 127;
+  Float4 m = (Float4)((bits & 0x007fffff) | 0x3f800000);
+  const Int4 high = m > 1.41421356f;
+  m = high ? m * 0.5f : m;
+  exponent -= high;  // a true comparison is -1
+  const Float4 e = __builtin_convertvector(exponent, Float4);
+  const Float4 f = m - 1.0f;
+  const Float4 z = f * f;
+  Float4 y = 7.0376836292e-2f * f - 1.1514610310e-1f;
+  y = y * f + 1.1676998740e-1f;
+  y = y * f - 1.2420140846e-1f;
+  y = y * f + 1.4249322787e-1f;
+  y = y * f - 1.6668057665e-1f;
+  y = y * f + 2.0000714765e-1f;
+  y = y * f - 2.4999993993e-1f;
+  y = y * f + 3.3333331174e-1f;
+  y = y * f * z;
+  y += e * -2.12194440e-4f;
+  y += -0.5f * z;
+  return f + y + e * 0.693359375f;
+}
+
 }  // namespace plume::interp

@@ -29,3 +29,19 @@ TEST_CASE("sin_cos4 matches sine and cosine to 2e-7 over +-1e4 radians, lane by 
   CHECK(sine[0] == 0.0f);
   CHECK(cosine[0] == 1.0f);
 }
+
+TEST_CASE("log4 matches the logarithm to 1e-7 relative over the normal floats", "[interp]") {
+  double worst = 0.0;
+  for (int i = 0; i < 400000; ++i) {
+    // From 1e-30 to 1e30, and densely around 1 where the result is small.
+    const float wide = std::pow(10.0f, -30.0f + 60.0f * float(i) / 400000.0f);
+    const interp::Float4 x = {wide, 1.0f + 1e-6f * float(i - 200000), 0.5f + 1e-6f * float(i), 1e-7f + 2.5e-6f * float(i)};
+    const interp::Float4 y = interp::log4(x);
+    for (int l = 0; l < 4; ++l) {
+      const double exact = std::log(double(x[l]));
+      worst = std::max(worst, std::abs(double(y[l]) - exact) / std::max(std::abs(exact), 1e-3));
+    }
+  }
+  CHECK(worst < 1e-7);
+  CHECK(interp::log4(interp::Float4{} + 1.0f)[0] == 0.0f);
+}

@@ -646,7 +646,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     for (size_t j = 1; j < pts.size(); ++j) {
       const float before = clearance.empty() ? skin_margin : clearance[first + j];
       const float bound = before - (pts[j] - grown[j]).norm();
-      if (bound >= skin_margin)
+      if (bound >= skin_margin && !grid.near_open_edge(pts[j]))
         guard.know(pts[j], bound);
       else
         guard.keep_out(pts[j]);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -40,6 +41,17 @@ class SkinGrid {
   /// triangle among the 27 cells around p's cell, or to the faces of that block (at least one cell
   /// size) when none is nearer. No triangle is looked at.
   float block_lower_bound(const Eigen::Vector3f &p) const;
+  /// True when p lies within one cell of a cell that an open edge of the mesh (an edge of one
+  /// triangle only) passes through. Past an open edge the signed distance changes sign without
+  /// crossing the skin, so there no bound or "nothing crossed" argument decides the side: callers
+  /// query. Points farther from every open edge than a cell are assumed to keep their side.
+  bool near_open_edge(const Eigen::Vector3f &p) const {
+    if (near_open_edge_.empty()) return false;
+    size_t c = 0;
+    for (int a = 2; a >= 0; --a)
+      c = c * size_t(dims_[a]) + size_t(std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1));
+    return near_open_edge_[c] != 0;
+  }
 
  private:
   /// Index of cell (x, y, z) in the flat per-cell arrays.
@@ -91,6 +103,8 @@ class SkinGrid {
   std::vector<CellTriangle> cell_triangles_;
   /// Per cell: chessboard distance (in cells, capped at 255) to the nearest cell holding a triangle.
   std::vector<uint8_t> cell_distance_;
+  /// Per cell: 1 within one cell of an open edge (see near_open_edge); empty for a closed mesh.
+  std::vector<uint8_t> near_open_edge_;
 };
 
 }  // namespace plume::interp

@@ -51,8 +51,9 @@ class SkinGuard {
   /// skips the bounds: for a point placed just after a push, where the skin may fold (a thin ear
   /// whose vertex normals average its two sides, so the side of a point can change without crossing
   /// the skin and the Lipschitz bound would clear a point that the signed distance puts inside).
+  /// Points near an open edge of the mesh (SkinGrid::near_open_edge) are always queried too.
   void keep_out(Eigen::Vector3f &p, bool always_query = false) {
-    if (always_query) {
+    if (always_query || (grid_ && grid_->near_open_edge(p))) {
       query_and_push(p);
       return;
     }

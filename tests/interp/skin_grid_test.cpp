@@ -11,6 +11,7 @@
 #include "interp/check.h"
 #include "interp/interpolate.h"
 #include "interp/skin_grid.h"
+#include "interp/skin_guard.h"
 
 using namespace plume;
 
@@ -168,4 +169,42 @@ TEST_CASE("skin grid: between two overlapping layers the side is the tree's", "[
   }
   CHECK(disagree == 0);
   CHECK(inside > 0);  // the tree does put some of these points inside (the upper layer wins)
+}
+
+TEST_CASE("skin guard: past the open edge of a sheet the side is the checker's, not inferred", "[interp]") {
+  // An open square sheet (normal +z). Points that go round its edge and under it cross no triangle,
+  // yet the signed distance (the checker's) calls them inside: no bound or "nothing crossed" argument
+  // may clear them.
+  Mesh mesh;
+  for (int j = 0; j <= 8; ++j)
+    for (int i = 0; i <= 8; ++i) mesh.positions.emplace_back(0.25f * float(i) - 1.0f, 0.25f * float(j) - 1.0f, 0.0f);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      const int a = j * 9 + i;
+      mesh.triangles.emplace_back(a, a + 1, a + 10);
+      mesh.triangles.emplace_back(a, a + 10, a + 9);
+    }
+  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
+  mesh.group_names = {"default"};
+  mesh.compute_normals();
+  const MeshQuery query(mesh);
+  const interp::SkinGrid grid(mesh, query);
+  const float margin = 0.02f;
+  int inside_before = 0, inside_after = 0;
+  for (int k = 0; k < 200; ++k) {
+    // From 0.3 above the sheet's edge x = 1 to 0.3 beyond it and a little below its plane, in one
+    // step: nothing lies within 0.3 of the new point, and the step is short enough (0.44) that a
+    // "nothing crossed" argument would accept it.
+    const float y = 1.6f * float(k) / 199.0f - 0.8f;
+    const float below = 0.08f + 0.1f * float(k % 10) / 9.0f;  // radians under the sheet's plane
+    const Eigen::Vector3f above(1.0f, y, 0.3f);
+    Eigen::Vector3f p(1.0f + 0.3f * std::cos(below), y, -0.3f * std::sin(below));
+    inside_before += query.signed_distance(p) < 0.0f;
+    interp::SkinGuard guard(query, margin, 2.0f, &grid);
+    guard.start_anywhere(above);
+    guard.keep_out(p);
+    inside_after += query.signed_distance(p) < margin * (1.0f - 1e-3f);
+  }
+  CHECK(inside_before == 200);
+  CHECK(inside_after == 0);
 }

@@ -44,6 +44,36 @@ Eigen::Vector3f closest_on_triangle(const Eigen::Vector3f &p, const Eigen::Vecto
   return {1.0f - v - w, v, w};
 }
 
+/// For each vertex, the lowest-numbered vertex it is welded to: vertices much closer than `weld`
+/// count as one. They share a cube of side `weld` in one of two grids of cubes offset by half a cube;
+/// a pair that straddles a face in both grids stays apart (rare, and only costs a few flagged cells).
+std::vector<uint32_t> welded_vertices(const Mesh &mesh, double weld) {
+  weld = std::max(weld, 1e-30);
+  std::vector<uint32_t> canonical(mesh.positions.size());
+  std::iota(canonical.begin(), canonical.end(), 0u);
+  auto root_of = [&](uint32_t v) {
+    while (canonical[v] != v) v = canonical[v] = canonical[canonical[v]];
+    return v;
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(mesh.positions.size());
+  for (const double shift : {0.0, 0.5}) {
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      uint64_t key = 0;
+      for (int axis = 0; axis < 3; ++axis)
+        key = key << 21 | (uint64_t(int64_t(std::floor(double(mesh.positions[v][axis]) / weld + shift))) & 0x1fffff);
+      keyed[v] = {key, uint32_t(v)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (size_t i = 1; i < keyed.size(); ++i)
+      if (keyed[i].first == keyed[i - 1].first) {
+        const uint32_t a = root_of(keyed[i].second), b = root_of(keyed[i - 1].second);
+        canonical[std::max(a, b)] = std::min(a, b);
+      }
+  }
+  for (uint32_t v = 0; v < canonical.size(); ++v) canonical[v] = root_of(v);
+  return canonical;
+}
+
 }  // namespace
 
 SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), query_(query) {
@@ -133,37 +163,11 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
           cell_distance_[cell_index(x, y, z)] = uint8_t(std::min(best, 255));
         }
   }
-  // Open edges: edges of exactly one triangle, counted over sorted vertex-pair keys. Vertices much
-  // closer than 1e-6 of the mesh's size count as one (a mesh split along a UV seam is not open
-  // there): they share a cube of that size in one of two grids of cubes offset by half a cube (a
-  // pair that straddles both only flags a few cells more). An edge whose ends are one vertex (of a
-  // degenerate triangle) is no edge. The cells an open edge's bounding box touches, and one cell
+  // Open edges: edges of exactly one triangle, counted over sorted vertex-pair keys of welded
+  // vertices (a mesh split along a UV seam is not open there); an edge whose ends are one vertex (of
+  // a degenerate triangle) is no edge. The cells an open edge's bounding box touches, and one cell
   // around, are flagged.
-  const double weld = std::max(1e-6 * double((hi - lo).norm()), 1e-30);
-  std::vector<uint32_t> canonical(mesh.positions.size());
-  std::iota(canonical.begin(), canonical.end(), 0u);
-  auto root_of = [&](uint32_t v) {
-    while (canonical[v] != v) v = canonical[v] = canonical[canonical[v]];
-    return v;
-  };
-  std::vector<std::pair<uint64_t, uint32_t>> keyed(mesh.positions.size());
-  for (const double shift : {0.0, 0.5}) {
-    for (size_t v = 0; v < mesh.positions.size(); ++v) {
-      uint64_t key = 0;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double cube = std::floor(double(mesh.positions[v][axis] - lo[axis]) / weld + shift);
-        key = key << 21 | (uint64_t(int64_t(cube)) & 0x1fffff);
-      }
-      keyed[v] = {key, uint32_t(v)};
-    }
-    std::sort(keyed.begin(), keyed.end());
-    for (size_t i = 1; i < keyed.size(); ++i)
-      if (keyed[i].first == keyed[i - 1].first) {
-        const uint32_t a = root_of(keyed[i].second), b = root_of(keyed[i - 1].second);
-        canonical[std::max(a, b)] = std::min(a, b);
-      }
-  }
-  for (uint32_t v = 0; v < canonical.size(); ++v) canonical[v] = root_of(v);
+  const std::vector<uint32_t> canonical = welded_vertices(mesh, 1e-6 * double((hi - lo).norm()));
   std::vector<uint64_t> edges;
   edges.reserve(3 * mesh.triangle_count());
   for (const Eigen::Vector3i &t : mesh.triangles)
@@ -178,14 +182,16 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
     if (end - e == 1) {
       if (near_open_edge_.empty()) near_open_edge_.assign(cell_count, 0);
       const Eigen::Vector3f &a = mesh.positions[size_t(edges[e] >> 32)], &b = mesh.positions[size_t(edges[e] & 0xffffffffu)];
-      Eigen::Vector3i lo, hi;
+      Eigen::Vector3i first_cell, last_cell;
       for (int axis = 0; axis < 3; ++axis) {
-        lo[axis] = std::clamp(int(std::floor((std::min(a[axis], b[axis]) - origin_[axis]) / cell_size_)) - 1, 0, dims_[axis] - 1);
-        hi[axis] = std::clamp(int(std::floor((std::max(a[axis], b[axis]) - origin_[axis]) / cell_size_)) + 1, 0, dims_[axis] - 1);
+        first_cell[axis] =
+            std::clamp(int(std::floor((std::min(a[axis], b[axis]) - origin_[axis]) / cell_size_)) - 1, 0, dims_[axis] - 1);
+        last_cell[axis] =
+            std::clamp(int(std::floor((std::max(a[axis], b[axis]) - origin_[axis]) / cell_size_)) + 1, 0, dims_[axis] - 1);
       }
-      for (int z = lo.z(); z <= hi.z(); ++z)
-        for (int y = lo.y(); y <= hi.y(); ++y)
-          for (int x = lo.x(); x <= hi.x(); ++x) near_open_edge_[cell_index(x, y, z)] = 1;
+      for (int z = first_cell.z(); z <= last_cell.z(); ++z)
+        for (int y = first_cell.y(); y <= last_cell.y(); ++y)
+          for (int x = first_cell.x(); x <= last_cell.x(); ++x) near_open_edge_[cell_index(x, y, z)] = 1;
     }
     e = end;
   }

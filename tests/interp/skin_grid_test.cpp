@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <initializer_list>
 
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
@@ -28,6 +29,26 @@ std::vector<Eigen::Vector3f> shell_points(int count) {
     points.push_back(direction * (0.6f + 0.8f * hash_to_unit(hash64(h + 2))));
   }
   return points;
+}
+
+/// Open square sheets [-1, 1] x [-1, 1] of 8 x 8 quads facing +z, one at each height z.
+Mesh square_sheets(std::initializer_list<float> heights) {
+  Mesh mesh;
+  for (const float z : heights) {
+    const int first = int(mesh.positions.size());
+    for (int j = 0; j <= 8; ++j)
+      for (int i = 0; i <= 8; ++i) mesh.positions.emplace_back(0.25f * float(i) - 1.0f, 0.25f * float(j) - 1.0f, z);
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        const int a = first + j * 9 + i;
+        mesh.triangles.emplace_back(a, a + 1, a + 10);
+        mesh.triangles.emplace_back(a, a + 10, a + 9);
+      }
+  }
+  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
+  mesh.group_names = {"default"};
+  mesh.compute_normals();
+  return mesh;
 }
 
 }  // namespace
@@ -137,21 +158,7 @@ TEST_CASE("on Sintel's head, folds at the ears included, no strand point ends in
 // them is outside the lower one and inside the upper one, and halfway it is as close to both. The
 // grid must then give the tree's side, or growth and the checker would disagree about "inside".
 TEST_CASE("skin grid: between two overlapping layers the side is the tree's", "[interp]") {
-  Mesh mesh;
-  for (const float z : {0.0f, 0.03f}) {
-    const int first = int(mesh.positions.size());
-    for (int j = 0; j <= 8; ++j)
-      for (int i = 0; i <= 8; ++i) mesh.positions.emplace_back(0.25f * float(i) - 1.0f, 0.25f * float(j) - 1.0f, z);
-    for (int j = 0; j < 8; ++j)
-      for (int i = 0; i < 8; ++i) {
-        const int a = first + j * 9 + i;
-        mesh.triangles.emplace_back(a, a + 1, a + 10);
-        mesh.triangles.emplace_back(a, a + 10, a + 9);
-      }
-  }
-  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
-  mesh.group_names = {"default"};
-  mesh.compute_normals();
+  const Mesh mesh = square_sheets({0.0f, 0.03f});
   const MeshQuery query(mesh);
   const interp::SkinGrid grid(mesh, query);
   int disagree = 0, inside = 0;
@@ -175,18 +182,7 @@ TEST_CASE("skin guard: past the open edge of a sheet the side is the checker's, 
   // An open square sheet (normal +z). Points that go round its edge and under it cross no triangle,
   // yet the signed distance (the checker's) calls them inside: no bound or "nothing crossed" argument
   // may clear them.
-  Mesh mesh;
-  for (int j = 0; j <= 8; ++j)
-    for (int i = 0; i <= 8; ++i) mesh.positions.emplace_back(0.25f * float(i) - 1.0f, 0.25f * float(j) - 1.0f, 0.0f);
-  for (int j = 0; j < 8; ++j)
-    for (int i = 0; i < 8; ++i) {
-      const int a = j * 9 + i;
-      mesh.triangles.emplace_back(a, a + 1, a + 10);
-      mesh.triangles.emplace_back(a, a + 10, a + 9);
-    }
-  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
-  mesh.group_names = {"default"};
-  mesh.compute_normals();
+  const Mesh mesh = square_sheets({0.0f});
   const MeshQuery query(mesh);
   const interp::SkinGrid grid(mesh, query);
   const float margin = 0.02f;

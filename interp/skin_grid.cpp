@@ -199,9 +199,8 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
 
 float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {
   if (cell_distance_.empty()) return 0.0f;
-  Eigen::Vector3i c;
-  for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
-  const int k = cell_distance_[(size_t(c.z()) * size_t(dims_.y()) + size_t(c.y())) * size_t(dims_.x()) + size_t(c.x())];
+  const Eigen::Vector3i c = cell_of(p);
+  const int k = cell_distance_[cell_index(c.x(), c.y(), c.z())];
   return float(std::max(k - 1, 0)) * cell_size_;
 }
 
@@ -374,8 +373,7 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
   }
   // p's own cell first (when in the block): its triangles are usually the nearest, and a small best
   // distance early lets the box and sphere tests skip most of the rest.
-  Eigen::Vector3i own;
-  for (int a = 0; a < 3; ++a) own[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+  const Eigen::Vector3i own = cell_of(p);
   const bool own_in_block = (own.array() >= lo.array()).all() && (own.array() <= hi.array()).all();
   if (own_in_block) scan_cell(p, cell_index(own.x(), own.y(), own.z()), nearest);
   for (int z = lo.z(); z <= hi.z(); ++z)

@@ -47,13 +47,17 @@ class SkinGrid {
   /// query. Points farther from every open edge than a cell are assumed to keep their side.
   bool near_open_edge(const Eigen::Vector3f &p) const {
     if (near_open_edge_.empty()) return false;
-    size_t c = 0;
-    for (int a = 2; a >= 0; --a)
-      c = c * size_t(dims_[a]) + size_t(std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1));
-    return near_open_edge_[c] != 0;
+    const Eigen::Vector3i c = cell_of(p);
+    return near_open_edge_[cell_index(c.x(), c.y(), c.z())] != 0;
   }
 
  private:
+  /// The cell holding p, clamped to the grid (a point outside it gets the nearest cell).
+  Eigen::Vector3i cell_of(const Eigen::Vector3f &p) const {
+    Eigen::Vector3i c;
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+    return c;
+  }
   /// Index of cell (x, y, z) in the flat per-cell arrays.
   size_t cell_index(int x, int y, int z) const {
     return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);

@@ -111,19 +111,32 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
     }
   };
   cell_offsets_.assign(cell_count + 1, 0);
-  auto bounding_sphere = [&](size_t f) {
+  // Each triangle's bounding disc, listed in every cell its bounding box touches; then packed four
+  // to a block, cell by cell.
+  struct Listed {
+    Eigen::Vector3f centre, normal;
+    float radius;
+    int32_t triangle;
+  };
+  auto bounding_disc = [&](size_t f) {
     const Eigen::Vector3f centre = (vertex(int(f), 0) + vertex(int(f), 1) + vertex(int(f), 2)) / 3.0f;
     float radius_sq = 0.0f;
     for (int i = 0; i < 3; ++i) radius_sq = std::max(radius_sq, (vertex(int(f), i) - centre).squaredNorm());
-    return CellTriangle{centre, std::sqrt(radius_sq), int32_t(f)};
+    const Eigen::Vector3f normal = (vertex(int(f), 1) - vertex(int(f), 0)).cross(vertex(int(f), 2) - vertex(int(f), 0));
+    const float norm = normal.norm();
+    // A triangle too thin for a normal gets none: the disc test is then the sphere test.
+    return Listed{centre, norm > 0.0f ? Eigen::Vector3f(normal / norm) : Eigen::Vector3f::Zero(), std::sqrt(radius_sq),
+                  int32_t(f)};
   };
+  std::vector<int32_t> listed_offsets(cell_count + 1, 0);
+  std::vector<Listed> listed;
   Eigen::Vector3i clo, chi;
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<int32_t> fill;
     if (pass == 1) {
-      for (size_t c = 0; c < cell_count; ++c) cell_offsets_[c + 1] += cell_offsets_[c];
-      cell_triangles_.resize(size_t(cell_offsets_[cell_count]));
-      fill.assign(cell_offsets_.begin(), cell_offsets_.end() - 1);
+      for (size_t c = 0; c < cell_count; ++c) listed_offsets[c + 1] += listed_offsets[c];
+      listed.resize(size_t(listed_offsets[cell_count]));
+      fill.assign(listed_offsets.begin(), listed_offsets.end() - 1);
     }
     for (size_t f = 0; f < mesh.triangle_count(); ++f) {
       if (!(mesh.triangle_area(f) > 0.0)) continue;
@@ -133,12 +146,38 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
           for (int x = clo.x(); x <= chi.x(); ++x) {
             const size_t c = cell_index(x, y, z);
             if (pass == 0)
-              ++cell_offsets_[c + 1];
+              ++listed_offsets[c + 1];
             else
-              cell_triangles_[size_t(fill[c]++)] = bounding_sphere(f);
+              listed[size_t(fill[c]++)] = bounding_disc(f);
           }
     }
   }
+  for (size_t c = 0; c < cell_count; ++c)
+    cell_offsets_[c + 1] = cell_offsets_[c] + (listed_offsets[c + 1] - listed_offsets[c] + 3) / 4;
+  CellBlock padding;
+  for (int a = 0; a < 3; ++a) {
+    padding.centre[a] = Float4{} + INFINITY;  // never within reach
+    padding.normal[a] = Float4{};
+  }
+  padding.radius = Float4{};
+  padding.triangle = Int4{} - 1;
+  for (int i = 0; i < 3; ++i)
+    for (int a = 0; a < 3; ++a) padding.corner[i][a] = Float4{};
+  cell_blocks_.assign(size_t(cell_offsets_[cell_count]), padding);
+  for (size_t c = 0; c < cell_count; ++c)
+    for (int32_t i = listed_offsets[c]; i < listed_offsets[c + 1]; ++i) {
+      const Listed &entry = listed[size_t(i)];
+      CellBlock &block = cell_blocks_[size_t(cell_offsets_[c] + (i - listed_offsets[c]) / 4)];
+      const int lane = (i - listed_offsets[c]) % 4;
+      for (int a = 0; a < 3; ++a) {
+        block.centre[a][lane] = entry.centre[a];
+        block.normal[a][lane] = entry.normal[a];
+      }
+      block.radius[lane] = entry.radius;
+      block.triangle[lane] = entry.triangle;
+      for (int corner = 0; corner < 3; ++corner)
+        for (int a = 0; a < 3; ++a) block.corner[corner][a][lane] = vertex(entry.triangle, corner)[a];
+    }
   // Chessboard distance transform: two raster passes over the 26-neighbourhood are exact for it.
   cell_distance_.assign(cell_count, 255);
   for (size_t c = 0; c < cell_count; ++c)
@@ -205,7 +244,7 @@ float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {
 }
 
 float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
-  if (cell_triangles_.empty()) return 0.0f;
+  if (cell_blocks_.empty()) return 0.0f;
   Eigen::Vector3i lo, hi, own;
   // gap_sq[a][d + 1]: squared distance along axis a from p to the slab of the cell at offset d from
   // p's own cell, so that the squared distance to the box of neighbour (dx, dy, dz) is the sum of
@@ -265,7 +304,7 @@ float SkinGrid::signed_at(const Eigen::Vector3f &p, const Nearest &nearest, Surf
 }
 
 bool SkinGrid::hint_distance(const Eigen::Vector3f &p, int hint, Eigen::Vector3f &r_bary, float &r_distance_sq) const {
-  if (hint < 0 || size_t(hint) >= mesh_.triangle_count() || cell_triangles_.empty()) return false;
+  if (hint < 0 || size_t(hint) >= mesh_.triangle_count() || cell_blocks_.empty()) return false;
   r_bary = closest_on_triangle(p, vertex(hint, 0), vertex(hint, 1), vertex(hint, 2));
   r_distance_sq = (p - (r_bary[0] * vertex(hint, 0) + r_bary[1] * vertex(hint, 1) + r_bary[2] * vertex(hint, 2)))
                       .squaredNorm();
@@ -273,8 +312,73 @@ bool SkinGrid::hint_distance(const Eigen::Vector3f &p, int hint, Eigen::Vector3f
   return r_bary.allFinite() && std::isfinite(r_distance_sq);
 }
 
+inline int SkinGrid::may_be_within(const CellBlock &block, Float4 px, Float4 py, Float4 pz, float reach) {
+  const Float4 ox = px - block.centre[0], oy = py - block.centre[1], oz = pz - block.centre[2];
+  const Float4 offset_sq = ox * ox + oy * oy + oz * oz;
+  const Float4 far = block.radius + reach;
+  const Float4 height = ox * block.normal[0] + oy * block.normal[1] + oz * block.normal[2];
+  const Float4 slack = 1e-6f * offset_sq;  // about ten roundings of the squares below
+  const Float4 height_sq = height * height - slack;
+  const Float4 beside_sq = offset_sq - height * height - slack;
+  const Float4 beside = sqrt4(beside_sq > 0.0f ? beside_sq : Float4{}) - block.radius;
+  const Float4 lower_sq = (height_sq > 0.0f ? height_sq : Float4{}) + (beside > 0.0f ? beside * beside : Float4{});
+  // Comparisons with a padding lane's infinite offsets are false (NaN) or reject it.
+  const Int4 within = ~(offset_sq > far * far) & (lower_sq <= reach * reach) & (block.triangle >= 0);
+#ifdef __SSE2__
+  return _mm_movemask_ps(_mm_castsi128_ps(__m128i(within)));
+#else
+  return (within[0] & 1) | (within[1] & 2) | (within[2] & 4) | (within[3] & 8);
+#endif
+}
+
+void SkinGrid::closest_in_block(const CellBlock &block, Float4 px, Float4 py, Float4 pz, Float4 r_bary[3],
+                                Float4 &r_distance_sq) {
+  // closest_on_triangle's operations lane by lane, every region's answer computed and the first
+  // whose condition holds kept, in the order of its tests (dot products add x + (y + z), as Eigen).
+  const Float4 p[3] = {px, py, pz};
+  auto dot = [](const Float4 u[3], const Float4 v[3]) { return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]); };
+  Float4 ab[3], ac[3], ap[3], bp[3], cp[3];
+  for (int a = 0; a < 3; ++a) {
+    ab[a] = block.corner[1][a] - block.corner[0][a];
+    ac[a] = block.corner[2][a] - block.corner[0][a];
+    ap[a] = p[a] - block.corner[0][a];
+    bp[a] = p[a] - block.corner[1][a];
+    cp[a] = p[a] - block.corner[2][a];
+  }
+  const Float4 d1 = dot(ab, ap), d2 = dot(ac, ap), d3 = dot(ab, bp), d4 = dot(ac, bp), d5 = dot(ab, cp),
+               d6 = dot(ac, cp);
+  const Float4 vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+  const Float4 zero{}, one = zero + 1.0f;
+  // Inside the face (the last case), then each earlier case over it, from the last test back.
+  const Float4 denom = 1.0f / (va + vb + vc);
+  Float4 v = vb * denom, w = vc * denom;
+  Float4 u = 1.0f - v - w;
+  auto take = [&](Int4 mask, Float4 mu, Float4 mv, Float4 mw) {
+    u = mask ? mu : u;
+    v = mask ? mv : v;
+    w = mask ? mw : w;
+  };
+  const Float4 e43 = d4 - d3, e56 = d5 - d6;
+  const Float4 w_bc = e43 / (e43 + e56);
+  take((va <= 0.0f) & (e43 >= 0.0f) & (e56 >= 0.0f), zero, 1.0f - w_bc, w_bc);
+  const Float4 w_ac = d2 / (d2 - d6);
+  take((vb <= 0.0f) & (d2 >= 0.0f) & (d6 <= 0.0f), 1.0f - w_ac, zero, w_ac);
+  take((d6 >= 0.0f) & (d5 <= d6), zero, zero, one);
+  const Float4 v_ab = d1 / (d1 - d3);
+  take((vc <= 0.0f) & (d1 >= 0.0f) & (d3 <= 0.0f), 1.0f - v_ab, v_ab, zero);
+  take((d3 >= 0.0f) & (d4 <= d3), zero, one, zero);
+  take((d1 <= 0.0f) & (d2 <= 0.0f), one, zero, zero);
+  r_bary[0] = u;
+  r_bary[1] = v;
+  r_bary[2] = w;
+  Float4 offset[3];
+  for (int a = 0; a < 3; ++a)
+    offset[a] = p[a] - ((u * block.corner[0][a] + v * block.corner[1][a]) + w * block.corner[2][a]);
+  r_distance_sq = offset[0] * offset[0] + (offset[1] * offset[1] + offset[2] * offset[2]);
+}
+
 bool SkinGrid::clear_within(const Eigen::Vector3f &p, float radius) const {
-  if (cell_triangles_.empty()) return true;
+  if (cell_blocks_.empty()) return true;
   Eigen::Vector3i lo, hi;
   for (int a = 0; a < 3; ++a) {
     lo[a] = std::clamp(int(std::floor((p[a] - radius - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
@@ -283,49 +387,56 @@ bool SkinGrid::clear_within(const Eigen::Vector3f &p, float radius) const {
   const Eigen::Vector3i span = hi - lo + Eigen::Vector3i::Ones();
   if (span.x() * span.y() * span.z() > 27) return false;
   const float radius_sq = radius * radius;
+  const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z();
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int x = lo.x(); x <= hi.x(); ++x) {
         const size_t c = cell_index(x, y, z);
         if (cell_offsets_[c] == cell_offsets_[c + 1] || cell_box_distance_sq(p, x, y, z) >= radius_sq) continue;
-        for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
-          const CellTriangle &entry = cell_triangles_[size_t(i)];
-          const float far = entry.radius + radius;
-          if ((p - entry.centre).squaredNorm() >= far * far) continue;
-          const int f = entry.triangle;
-          const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
-          if ((p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm() < radius_sq)
-            return false;
+        for (int32_t b = cell_offsets_[c]; b < cell_offsets_[c + 1]; ++b) {
+          const CellBlock &block = cell_blocks_[size_t(b)];
+          const int lanes = may_be_within(block, px, py, pz, radius);
+          if (lanes == 0) continue;
+          Float4 bary[3], distance_sq;
+          closest_in_block(block, px, py, pz, bary, distance_sq);
+          for (int l = 0; l < 4; ++l)
+            if ((lanes >> l & 1) && distance_sq[l] < radius_sq) return false;
         }
       }
   return true;
 }
 
 void SkinGrid::scan_cell(const Eigen::Vector3f &p, size_t c, Nearest &r_nearest) const {
-  // A triangle whose bounding sphere is farther than the best distance (with the near-tie slack)
-  // can be neither closer nor a near tie.
+  // A triangle whose bounding disc is farther than the best distance (with the near-tie slack) can
+  // be neither closer nor a near tie. A block's lanes are tested with the reach at its start; a lane
+  // let through by a reach that shrank meanwhile changes nothing.
   float reach = std::sqrt(r_nearest.best_sq) * kNearTie;
-  for (int32_t i = cell_offsets_[c]; i < cell_offsets_[c + 1]; ++i) {
-    const CellTriangle &entry = cell_triangles_[size_t(i)];
-    const float far = entry.radius + reach;
-    if ((p - entry.centre).squaredNorm() > far * far) continue;
-    const int f = entry.triangle;
-    if (f == r_nearest.best || f == r_nearest.second) continue;  // listed in several cells
-    const Eigen::Vector3f bary = closest_on_triangle(p, vertex(f, 0), vertex(f, 1), vertex(f, 2));
-    const float distance_sq =
-        (p - (bary[0] * vertex(f, 0) + bary[1] * vertex(f, 1) + bary[2] * vertex(f, 2))).squaredNorm();
-    if (distance_sq < r_nearest.best_sq || (distance_sq == r_nearest.best_sq && f < r_nearest.best)) {
-      r_nearest.second_sq = r_nearest.best_sq;
-      r_nearest.second = r_nearest.best;
-      r_nearest.second_bary = r_nearest.best_bary;
-      r_nearest.best_sq = distance_sq;
-      r_nearest.best = f;
-      r_nearest.best_bary = bary;
-      reach = std::sqrt(distance_sq) * kNearTie;
-    } else if (distance_sq < r_nearest.second_sq) {
-      r_nearest.second_sq = distance_sq;
-      r_nearest.second = f;
-      r_nearest.second_bary = bary;
+  const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z();
+  for (int32_t b = cell_offsets_[c]; b < cell_offsets_[c + 1]; ++b) {
+    const CellBlock &block = cell_blocks_[size_t(b)];
+    const int lanes = may_be_within(block, px, py, pz, reach);
+    if (lanes == 0) continue;
+    Float4 barys[3], distances_sq;
+    closest_in_block(block, px, py, pz, barys, distances_sq);
+    for (int l = 0; l < 4; ++l) {
+      if (!(lanes >> l & 1)) continue;
+      const int f = block.triangle[l];
+      if (f == r_nearest.best || f == r_nearest.second) continue;  // listed in several cells
+      const Eigen::Vector3f bary(barys[0][l], barys[1][l], barys[2][l]);
+      const float distance_sq = distances_sq[l];
+      if (distance_sq < r_nearest.best_sq || (distance_sq == r_nearest.best_sq && f < r_nearest.best)) {
+        r_nearest.second_sq = r_nearest.best_sq;
+        r_nearest.second = r_nearest.best;
+        r_nearest.second_bary = r_nearest.best_bary;
+        r_nearest.best_sq = distance_sq;
+        r_nearest.best = f;
+        r_nearest.best_bary = bary;
+        reach = std::sqrt(distance_sq) * kNearTie;
+      } else if (distance_sq < r_nearest.second_sq) {
+        r_nearest.second_sq = distance_sq;
+        r_nearest.second = f;
+        r_nearest.second_bary = bary;
+      }
     }
   }
 }

@@ -11,6 +11,7 @@
 
 #include "groom/mesh.h"
 #include "groom/mesh_query.h"
+#include "interp/lanes.h"
 
 namespace plume::interp {
 
@@ -95,16 +96,29 @@ class SkinGrid {
   Eigen::Vector3f origin_;
   float cell_size_ = 1.0f;
   Eigen::Vector3i dims_;
-  /// A triangle as a cell lists it, with a bounding sphere so that most triangles of a scanned cell
-  /// are rejected without the closest-point computation.
-  struct CellTriangle {
-    Eigen::Vector3f centre;  // centroid
-    float radius;            // largest distance from the centroid to a corner
-    int32_t triangle;
+  /// Four triangles as a cell lists them (SIMD lanes), each with a bounding disc in its plane, so
+  /// that most triangles of a scanned cell are rejected four at a time without the closest-point
+  /// computation (see may_be_within). A cell's last block is padded with lanes of triangle -1.
+  struct CellBlock {
+    Float4 centre[3];  // centroid
+    Float4 radius;     // largest distance from the centroid to a corner
+    Float4 normal[3];  // unit normal of the triangle's plane (0 for a triangle too thin for one)
+    Int4 triangle;
+    Float4 corner[3][3];  // corner[i][axis]: the triangle's corners, for closest_in_block
   };
-  /// CSR: triangles of cell c are cell_triangles_[cell_offsets_[c] .. cell_offsets_[c + 1]).
+  /// Closest points of the block's four triangles to p (barycentric weights and squared distances,
+  /// lanes as the block's), each the same to the bit as closest_on_triangle for that triangle alone.
+  static void closest_in_block(const CellBlock &block, Float4 px, Float4 py, Float4 pz, Float4 r_bary[3],
+                               Float4 &r_distance_sq);
+  /// Bit l set unless the triangle of lane l is certainly farther than `reach` from p (px, py, pz in
+  /// every lane): p is too far from its bounding sphere, or from the disc of that radius in the
+  /// triangle's plane (the distance to the plane and the gap beside the disc, with slack for
+  /// rounding). Above a smooth skin the sphere test lets through every triangle near the foot of p;
+  /// the disc test keeps only those under it.
+  static int may_be_within(const CellBlock &block, Float4 px, Float4 py, Float4 pz, float reach);
+  /// CSR: the blocks of cell c are cell_blocks_[cell_offsets_[c] .. cell_offsets_[c + 1]).
   std::vector<int32_t> cell_offsets_;
-  std::vector<CellTriangle> cell_triangles_;
+  std::vector<CellBlock> cell_blocks_;
   /// Per cell: chessboard distance (in cells, capped at 255) to the nearest cell holding a triangle.
   std::vector<uint8_t> cell_distance_;
   /// Per cell: 1 within one cell of an open edge (see near_open_edge); empty for a closed mesh.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <mutex>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -267,9 +268,21 @@ struct EffectStack::Prepared {
   explicit Prepared(const EffectDesc &d) : desc(d), noise(d.seed) {}
 };
 
+/// Kept from one apply() to the next: the copy of the grown strands (tens of megabytes, which a
+/// fresh allocation would fault in page by page every frame). One apply at a time uses it; a
+/// concurrent one allocates its own.
+struct EffectStack::FrameBuffers {
+  std::mutex mutex;
+  std::vector<Eigen::Vector3f> grown_positions;
+};
+
 EffectStack::EffectStack(const std::vector<EffectDesc> &effects, const Mesh &rest_mesh, const Roots &roots,
                          const Guides &guides, const std::vector<int32_t> &nearest_guide)
-    : root_points_(roots.points), ids_(roots.ids), nearest_guide_(nearest_guide), guide_roots_(guides.roots) {
+    : root_points_(roots.points),
+      ids_(roots.ids),
+      nearest_guide_(nearest_guide),
+      guide_roots_(guides.roots),
+      buffers_(std::make_unique<FrameBuffers>()) {
   const size_t n = roots.size();
   if (nearest_guide.size() != n || ids_.size() != n)
     throw InternalError("EffectStack: one id and one nearest guide per root expected");
@@ -598,8 +611,17 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   // Each effect's ramp at the points of a strand of the first strand's count (all, when grown).
   std::vector<RampSamples> ramps;
   for (const Prepared &e : effects_) ramps.emplace_back(e.desc.ramp, n > 0 ? r_strands.points_in(0) : 2);
-  // The strands as growth left them, for the skin pass at the end.
-  std::vector<Eigen::Vector3f> grown_positions(r_strands.positions.size());
+  // The strands as growth left them, for the skin pass at the end, in the kept buffer unless
+  // another frame's apply holds it.
+  std::unique_lock<std::mutex> buffers_lock;
+  std::vector<Eigen::Vector3f> own_buffer;
+  std::vector<Eigen::Vector3f> *grown_buffer = &own_buffer;
+  if (buffers_) {
+    buffers_lock = std::unique_lock<std::mutex>(buffers_->mutex, std::try_to_lock);
+    if (buffers_lock.owns_lock()) grown_buffer = &buffers_->grown_positions;
+  }
+  std::vector<Eigen::Vector3f> &grown_positions = *grown_buffer;
+  grown_positions.resize(r_strands.positions.size());
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
     const std::span<const Eigen::Vector3f> pts = r_strands.points(size_t(i));

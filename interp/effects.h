@@ -18,7 +18,8 @@ namespace plume::interp {
 
 /// The rest-pose data a stack needs, computed once: clump assignment, per-root rest frames,
 /// per-root scale (face groups x vertex map). Apply it every frame; `apply` is const and may be
-/// called from several frames concurrently.
+/// called from several frames concurrently. Between calls a stack keeps one buffer the size of the
+/// strands' positions (12 bytes per point), so that frame after frame needs no fresh memory.
 ///
 /// Stability: every random choice is hashed from (effect seed, strand id), and noise is evaluated
 /// in each root's rest frame, so a frame regrown alone, with any thread count, gives the same bits.
@@ -54,6 +55,7 @@ class EffectStack {
   const std::vector<int32_t> &clump_centres(size_t effect) const;
 
   struct Prepared;  // one per effect, defined in effects.cpp
+  struct FrameBuffers;  // memory apply() keeps from one frame to the next, defined in effects.cpp
 
  private:
   std::vector<Prepared> effects_;
@@ -62,6 +64,7 @@ class EffectStack {
   std::vector<int32_t> nearest_guide_;     // one per strand, -1: none
   std::vector<SurfaceFrame> rest_frames_;  // one per strand: the root's surface frame on the rest mesh
   std::vector<SurfacePoint> guide_roots_;  // one per guide (rest binding)
+  std::unique_ptr<FrameBuffers> buffers_;
 };
 
 }  // namespace plume::interp

@@ -481,10 +481,12 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     }
     const float height = std::max(lift.dot(normal), 0.0f);
     points[0] = root_frame.origin + height * normal;
-    if (height > 0.0f && skin_grid) {
+    if (height > 1e-6f * scale && skin_grid) {
       // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
       // normals average its two sides) the normal can lead behind another part of the skin: then the
-      // root stays on the skin.
+      // root stays on the skin. A lift within the skin guard's tolerance (a millionth of the mesh
+      // size: guide roots on the skin up to rounding) cannot reach another part of it and needs no
+      // query.
       SurfacePoint closest;
       if (skin_grid->signed_distance(points[0], roots.points[size_t(r)].triangle, closest) < 0.0f)
         points[0] = root_frame.origin;

@@ -668,10 +668,22 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     for (size_t j = 1; j < pts.size(); ++j) {
       const float before = clearance.empty() ? skin_margin : clearance[first + j];
       const float bound = before - (pts[j] - grown[j]).norm();
-      if (bound >= skin_margin && !grid.near_open_edge(pts[j]))
+      if (bound >= skin_margin && !grid.near_open_edge(pts[j])) {
         guard.know(pts[j], bound);
-      else
-        guard.keep_out(pts[j]);
+        continue;
+      }
+      // The first point after the root, moved from where growth proved it outside (often just at the
+      // margin: pushed there). The guard knows only the root, on the skin, from which no bound
+      // follows; but no triangle within the margin of the point proves it outside by the margin when
+      // it cannot have crossed the skin on the way from its grown place (as in SkinGuard::keep_out),
+      // far cheaper than the exact search. It fails for a point moved nearer the skin: then the search.
+      const float moved = before - bound;
+      if (j == 1 && before > 0.0f && before + skin_margin > moved && !grid.near_open_edge(pts[j]) &&
+          grid.clear_within(pts[j], skin_margin)) {
+        guard.know(pts[j], skin_margin);
+        continue;
+      }
+      guard.keep_out(pts[j]);
     }
   };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "app/frame_range.h"
 #include "dynamics/guide_simulator.h"
@@ -11,6 +12,7 @@
 #include "interp/effects.h"
 #include "interp/interpolate.h"
 #include "interp/parting_field.h"
+#include "interp/skin_grid.h"
 #include "io/obj_mesh.h"
 #include "io/point_list.h"
 #include "io/strand_file.h"
@@ -197,10 +199,16 @@ FrameResult Pipeline::produce(int frame) {
   grow_options.width_root = groom_.width_root;
   grow_options.width_tip = groom_.width_tip;
   grow_options.with_widths = true;
-  // Growth's skin bounds let the stack's closing skin pass skip the points it moved by less.
+  // Growth's skin bounds let the stack's closing skin pass skip the points it moved by less; both
+  // search the skin through one grid built for this frame.
   std::vector<float> clearance;
-  interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance);
-  effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands, clearance);
+  std::optional<interp::SkinGrid> skin_grid;
+  if (binding_->settings.method == InterpolationSettings::Method::streamline || !effects_->empty())
+    skin_grid.emplace(result.mesh, query);
+  const interp::SkinGrid *grid = skin_grid ? &*skin_grid : nullptr;
+  interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance, grid);
+  effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands, clearance,
+                  grid);
   return result;
 }
 

@@ -21,6 +21,7 @@
 #include "groom/roots.h"
 #include "interp/effects.h"
 #include "interp/interpolate.h"
+#include "interp/skin_grid.h"
 
 using namespace plume;
 
@@ -141,11 +142,13 @@ int main(int argc, char **argv) {
     grow_only.push_back(seconds_since(t0));
     cpu_grow.push_back(cpu_seconds() - c0);
 
+    // As the pipeline does it: one skin grid for the frame, shared by growth and the stack.
     t0 = std::chrono::steady_clock::now();
-    interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance);
+    const interp::SkinGrid grid(posed, posed_query);
+    interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance, &grid);
     const auto t1 = std::chrono::steady_clock::now();
     c0 = cpu_seconds();
-    stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance);
+    stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance, &grid);
     grow_and_stack.push_back(seconds_since(t0));
     stack_only.push_back(seconds_since(t1));
     cpu_stack.push_back(cpu_seconds() - c0);

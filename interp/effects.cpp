@@ -6,6 +6,7 @@
 #include <fstream>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 
@@ -600,7 +601,8 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t 
 }  // namespace
 
 void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, const StrandSet &guides_this_frame,
-                        float skin_margin, StrandSet &r_strands, std::span<const float> clearance) const {
+                        float skin_margin, StrandSet &r_strands, std::span<const float> clearance,
+                        const SkinGrid *skin_grid) const {
   const int64_t n = int64_t(r_strands.strand_count());
   if (size_t(n) != ids_.size() || r_strands.ids != ids_)
     throw InternalError("EffectStack::apply: strands do not match the roots (count, order or ids)");
@@ -658,7 +660,9 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   // root's at first), and a push along the normal to the margin when closer.
   if (!clearance.empty() && clearance.size() != r_strands.positions.size())
     throw InternalError("EffectStack::apply: clearance count differs from the point count");
-  const SkinGrid grid(posed_mesh, posed_query);
+  std::optional<SkinGrid> own_grid;
+  if (!skin_grid) own_grid.emplace(posed_mesh, posed_query);
+  const SkinGrid &grid = skin_grid ? *skin_grid : *own_grid;
   const float scale = mesh_scale(posed_mesh);
   auto keep_out_of_skin = [&](int64_t i, std::span<Eigen::Vector3f> pts) {
     const size_t first = size_t(r_strands.offsets[i]);

@@ -16,6 +16,8 @@
 
 namespace plume::interp {
 
+class SkinGrid;  // interp/skin_grid.h
+
 /// The rest-pose data a stack needs, computed once: clump assignment, per-root rest frames,
 /// per-root scale (face groups x vertex map). Apply it every frame; `apply` is const and may be
 /// called from several frames concurrently. Between calls a stack keeps one buffer the size of the
@@ -45,8 +47,11 @@ class EffectStack {
   /// outside (the signed distance is 1-Lipschitz), and only where that bound falls below `skin_margin`
   /// is the skin looked at, and the point pushed out along the normal to the margin when closer. An
   /// empty stack leaves the strands as they are.
+  /// `skin_grid` (may be null): a SkinGrid built on `posed_mesh` and `posed_query`, as growth used
+  /// this frame; when null, the stack builds its own.
   void apply(const Mesh &posed_mesh, const MeshQuery &posed_query, const StrandSet &guides_this_frame,
-             float skin_margin, StrandSet &r_strands, std::span<const float> clearance = {}) const;
+             float skin_margin, StrandSet &r_strands, std::span<const float> clearance = {},
+             const SkinGrid *skin_grid = nullptr) const;
 
   /// True when the stack has no effect (apply then leaves strands untouched).
   bool empty() const;

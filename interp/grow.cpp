@@ -402,7 +402,7 @@ struct StreamlineField {
 
 void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
           const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands,
-          std::vector<float> *r_clearance) {
+          std::vector<float> *r_clearance, const SkinGrid *shared_skin_grid) {
   const int n = options.points_per_strand;
   if (n < 2) throw InputError("points_per_strand: expected at least 2, got " + std::to_string(n));
   if (roots.size() != binding.root_count())
@@ -423,8 +423,9 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const int k = binding.k;
   const float scale = mesh_scale(mesh);
   const bool streamline = settings.method == InterpolationSettings::Method::streamline;
-  std::unique_ptr<SkinGrid> skin_grid;
-  if (streamline) skin_grid = std::make_unique<SkinGrid>(mesh, query);
+  std::unique_ptr<SkinGrid> own_skin_grid;
+  if (streamline && !shared_skin_grid) own_skin_grid = std::make_unique<SkinGrid>(mesh, query);
+  const SkinGrid *const skin_grid = streamline ? (shared_skin_grid ? shared_skin_grid : own_skin_grid.get()) : nullptr;
 
   r_strands.resize_uniform(roots.size(), n, options.with_widths);
   r_strands.ids = roots.ids;
@@ -535,7 +536,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       progress.segment[l] = 0;
       progress.pace[l] = 0.0f;  // no distance known yet
     }
-    SkinGuard guard(query, settings.skin_margin, scale, skin_grid.get());
+    SkinGuard guard(query, settings.skin_margin, scale, skin_grid);
     guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
     // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
     // keeps its length, and check again with a query (see SkinGuard::keep_out).

@@ -17,6 +17,8 @@
 
 namespace plume::interp {
 
+class SkinGrid;  // interp/skin_grid.h
+
 class PartingField;
 
 /// Largest number of guides per root (InterpolationSettings::k must be in [1, max_influences]).
@@ -81,9 +83,11 @@ struct GrowOptions {
 /// `r_clearance` (may be null): streamline growth fills it with one lower bound per output point of
 /// that point's signed distance to the skin (what the skin push-out proved, at no extra cost), so
 /// later passes that move points by less than that need no query; fur and linear leave it empty.
+/// `skin_grid` (may be null): a SkinGrid built on `mesh` and `query` this frame, to share with the
+/// effects stack; when null, streamline growth builds its own.
 void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
           const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands,
-          std::vector<float> *r_clearance = nullptr);
+          std::vector<float> *r_clearance = nullptr, const SkinGrid *skin_grid = nullptr);
 
 /// Pushes points out of the skin: a point whose signed distance is below `margin` (scene units)
 /// moves out along the surface normal at its closest point until it is at least ~margin outside.

@@ -1,6 +1,7 @@
 // A uniform grid of the emitter's triangles for exact closest-point queries near a known triangle.
-// Internal to interp/: strands walk along the skin in small steps, so the previous closest triangle
-// bounds the search to a few cells, far cheaper than a query of the whole tree.
+// Strands walk along the skin in small steps, so the previous closest triangle bounds the search to
+// a few cells, far cheaper than a query of the whole tree. Built once per posed frame: growth and
+// the effects stack can share one (grow(), EffectStack::apply()).
 #pragma once
 
 #include <Eigen/Core>

@@ -16,6 +16,7 @@
 #include "interp/effects.h"
 #include "interp/interpolate.h"
 #include "interp/noise.h"
+#include "interp/skin_grid.h"
 
 using namespace plume;
 using plume::interp::EffectStack;
@@ -586,6 +587,17 @@ TEST_CASE("with growth's clearance the stack skips proven points and still ends 
   CHECK(on_margin > 100);
   // The bounds only spare queries: the same points are pushed, to the same places.
   CHECK(largest_difference <= 1e-5f);
+
+  // One skin grid shared by growth and the stack, as the pipeline does, gives the same bits as each
+  // building its own.
+  const interp::SkinGrid grid(s.mesh, s.query);
+  StrandSet shared;
+  std::vector<float> shared_clearance;
+  interp::grow(binding, s.mesh, s.query, s.roots, s.guides.strands, options, shared, &shared_clearance, &grid);
+  CHECK(bit_identical(shared, grown));
+  CHECK(shared_clearance == clearance);
+  stack.apply(s.mesh, s.query, s.guides.strands, settings.skin_margin, shared, shared_clearance, &grid);
+  CHECK(bit_identical(shared, with_bounds));
   CHECK_THROWS_AS(stack.apply(s.mesh, s.query, s.guides.strands, settings.skin_margin, with_bounds,
                               std::span<const float>(clearance.data(), 5)),
                   InternalError);

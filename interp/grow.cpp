@@ -30,7 +30,7 @@ struct alignas(64) GuideSegment {
   Eigen::Vector3f tangent_start;  // continuous tangents at its two points
   float inverse_length;           // 1 / length, 0 for a zero-length segment
   Eigen::Vector3f tangent_end;
-  float curvature;  // sustained curvature (see FrameGuides::segment_curvatures)
+  float curvature;  // sustained curvature (see prepare_guides)
 };
 static_assert(sizeof(GuideSegment) == 16 * sizeof(float) && sizeof(Eigen::Vector3f) == 3 * sizeof(float),
               "GuideSegment must be four packed quads of floats");
@@ -43,18 +43,7 @@ struct FrameGuides {
   std::vector<Eigen::Vector3f> origins;
   /// Streamline: segment j of guide g is at index segment_offsets[g] + j (#guides + 1 offsets).
   std::vector<int64_t> segment_offsets;
-  std::vector<Eigen::Vector3f> segment_directions;  // unit; a zero-length segment takes a neighbour's
-  std::vector<float> segment_lengths;
-  std::vector<float> segment_arcs;  // arc length from the guide's first point to the segment's start
-  /// Streamline: unit tangent at each guide point (#guides total points, indexed like the guides'
-  /// positions): the bisector of the two segments meeting there. Along a segment the field's
-  /// direction goes linearly from one end's tangent to the other's, so it is continuous at vertices.
-  std::vector<Eigen::Vector3f> point_tangents;
-  /// Streamline: per segment, the guide's sustained curvature there: the smallest turning rate
-  /// |t_end - t_start| / length over the segment and the two on each side. A curl keeps it high
-  /// along its coils; a single sharp bend (one vertex) does not count.
-  std::vector<float> segment_curvatures;
-  /// Streamline: the same per segment, packed (indexed like segment_directions).
+  /// Streamline: every guide segment, packed (see GuideSegment).
   std::vector<GuideSegment> segments;
   /// Fur and linear: every guide resampled to N points by arc length (#guides * N points), with its
   /// #guides * (N - 1) unit segment directions and lengths.
@@ -70,7 +59,7 @@ Eigen::Vector3f unit_or(const Eigen::Vector3f &v, const Eigen::Vector3f &fallbac
 
 /// Unit directions and lengths of the segments of a polyline; zero-length segments take the
 /// direction of the previous valid one (the first valid one for leading ones, `fallback` if none).
-void segment_directions(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f &fallback,
+void unit_segments(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f &fallback,
                         Eigen::Vector3f *r_directions, float *r_lengths) {
   const size_t count = points.size() - 1;
   Eigen::Vector3f last = fallback;
@@ -128,25 +117,29 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
     for (size_t g = 0; g < guide_count; ++g)
       frame.segment_offsets[g + 1] = frame.segment_offsets[g] + guides.points_in(g) - 1;
     const size_t segment_count = size_t(frame.segment_offsets.back());
-    frame.segment_directions.resize(segment_count);
-    frame.segment_lengths.resize(segment_count);
-    frame.segment_arcs.resize(segment_count);
+    // Per segment: unit direction (a zero-length segment takes a neighbour's), length, and arc length
+    // from the guide's first point to its start.
+    std::vector<Eigen::Vector3f> segment_directions(segment_count);
+    std::vector<float> segment_lengths(segment_count), segment_arcs(segment_count);
     for (size_t g = 0; g < guide_count; ++g) {
       const int64_t first = frame.segment_offsets[g];
-      segment_directions(guides.points(g), frame.frames[g].col(2), frame.segment_directions.data() + first,
-                         frame.segment_lengths.data() + first);
+      unit_segments(guides.points(g), frame.frames[g].col(2), segment_directions.data() + first,
+                    segment_lengths.data() + first);
       float arc = 0.0f;
       for (int64_t j = first; j < frame.segment_offsets[g + 1]; ++j) {
-        frame.segment_arcs[size_t(j)] = arc;
-        arc += frame.segment_lengths[size_t(j)];
+        segment_arcs[size_t(j)] = arc;
+        arc += segment_lengths[size_t(j)];
       }
     }
-    frame.point_tangents.resize(guides.point_count());
+    // Unit tangent at each guide point (indexed like the guides' positions): the bisector of the two
+    // segments meeting there. Along a segment the field's direction goes linearly from one end's
+    // tangent to the other's, so it is continuous at vertices.
+    std::vector<Eigen::Vector3f> point_tangents(guides.point_count());
     for (size_t g = 0; g < guide_count; ++g) {
       const int64_t first = frame.segment_offsets[g];
       const int64_t segments = frame.segment_offsets[g + 1] - first;
-      Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
-      const Eigen::Vector3f *directions = frame.segment_directions.data() + first;
+      Eigen::Vector3f *tangents = point_tangents.data() + guides.offsets[g];
+      const Eigen::Vector3f *directions = segment_directions.data() + first;
       for (int64_t j = 1; j < segments; ++j) tangents[j] = unit_or(directions[j - 1] + directions[j], directions[j]);
       // End tangents: the inner tangent mirrored about the end segment, exact on a circular arc.
       auto mirror = [](const Eigen::Vector3f &inner, const Eigen::Vector3f &segment) {
@@ -155,15 +148,18 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
       tangents[0] = segments > 1 ? mirror(tangents[1], directions[0]) : directions[0];
       tangents[segments] = segments > 1 ? mirror(tangents[segments - 1], directions[segments - 1]) : directions[0];
     }
-    frame.segment_curvatures.resize(segment_count);
+    // Per segment, the guide's sustained curvature there: the smallest turning rate
+    // |t_end - t_start| / length over the segment and the two on each side. A curl keeps it high
+    // along its coils; a single sharp bend (one vertex) does not count.
+    std::vector<float> segment_curvatures(segment_count);
     std::vector<float> turning;
     for (size_t g = 0; g < guide_count; ++g) {
       const int64_t first = frame.segment_offsets[g];
       const int64_t segments = frame.segment_offsets[g + 1] - first;
-      const Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
+      const Eigen::Vector3f *tangents = point_tangents.data() + guides.offsets[g];
       turning.resize(size_t(segments));
       for (int64_t j = 0; j < segments; ++j) {
-        const float length = frame.segment_lengths[size_t(first + j)];
+        const float length = segment_lengths[size_t(first + j)];
         turning[size_t(j)] = length > 0.0f ? (tangents[j + 1] - tangents[j]).norm() / length : 0.0f;
       }
       constexpr int64_t spread = 2;
@@ -171,26 +167,26 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
         float sustained = turning[size_t(j)];
         for (int64_t i = std::max<int64_t>(j - spread, 0); i <= std::min(j + spread, segments - 1); ++i)
           sustained = std::min(sustained, turning[size_t(i)]);
-        frame.segment_curvatures[size_t(first + j)] = sustained;
+        segment_curvatures[size_t(first + j)] = sustained;
       }
     }
     frame.segments.resize(segment_count);
     for (size_t g = 0; g < guide_count; ++g) {
       const int64_t first = frame.segment_offsets[g];
       const std::span<const Eigen::Vector3f> points = guides.points(g);
-      const Eigen::Vector3f *tangents = frame.point_tangents.data() + guides.offsets[g];
+      const Eigen::Vector3f *tangents = point_tangents.data() + guides.offsets[g];
       for (int64_t j = 0; j < frame.segment_offsets[g + 1] - first; ++j) {
         const size_t at = size_t(first + j);
-        const float length = frame.segment_lengths[at];
+        const float length = segment_lengths[at];
         GuideSegment &segment = frame.segments[at];
         segment.start = points[size_t(j)];
-        segment.arc = frame.segment_arcs[at];
-        segment.direction = frame.segment_directions[at];
+        segment.arc = segment_arcs[at];
+        segment.direction = segment_directions[at];
         segment.length = length;
         segment.tangent_start = tangents[j];
         segment.inverse_length = length > 0.0f ? 1.0f / length : 0.0f;
         segment.tangent_end = tangents[j + 1];
-        segment.curvature = frame.segment_curvatures[at];
+        segment.curvature = segment_curvatures[at];
       }
     }
   } else {
@@ -201,7 +197,7 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
     for (size_t g = 0; g < guide_count; ++g) {
       Eigen::Vector3f *points = frame.resampled.data() + g * n;
       resample(guides.points(g), points_per_strand, points);
-      segment_directions({points, n}, frame.frames[g].col(2), frame.resampled_directions.data() + g * (n - 1),
+      unit_segments({points, n}, frame.frames[g].col(2), frame.resampled_directions.data() + g * (n - 1),
                          frame.resampled_lengths.data() + g * (n - 1));
     }
   }
@@ -525,7 +521,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       const int s = lane < used ? lane : lane & ~3;
       const size_t g = size_t(slots[s].guide);
       const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
-      const float guide_length = frame.segment_arcs[size_t(last)] + frame.segment_lengths[size_t(last)];
+      const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
       StreamlineSlots::Group &group = field_slots.groups[lane / 4];
       StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
       const int l = lane % 4;
@@ -559,7 +555,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     Eigen::Vector3f seed = Eigen::Vector3f::Zero();
     for (int s = 0; s < used; ++s) {
       const size_t g = size_t(slots[s].guide);
-      seed += slots[s].weight * (slots[s].rotation * frame.segment_directions[size_t(frame.segment_offsets[g])]);
+      seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
     }
     Eigen::Vector3f direction = unit_or(seed, normal);
     points[1] = advance(points[0], direction);

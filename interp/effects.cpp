@@ -671,9 +671,13 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     guard.start(pts[0], root_points_[i].triangle);  // the root never moves and lies on the skin
     for (size_t j = 1; j < pts.size(); ++j) {
       const float before = clearance.empty() ? skin_margin : clearance[first + j];
-      const float bound = before - (pts[j] - grown[j]).norm();
-      if (bound >= skin_margin && !grid.near_open_edge(pts[j])) {
-        guard.know(pts[j], bound);
+      // Moved by at most before - margin: still outside by the margin. The guard is told the grown
+      // point and its bound, from which its next bounds follow at least as well as from this point
+      // (triangle inequality), with no square root here.
+      const float room = before - skin_margin;
+      const float moved_sq = (pts[j] - grown[j]).squaredNorm();
+      if (room >= 0.0f && moved_sq <= room * room && !grid.near_open_edge(pts[j])) {
+        guard.know(grown[j], before);
         continue;
       }
       // The first point after the root, moved from where growth proved it outside (often just at the
@@ -681,7 +685,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       // follows; but no triangle within the margin of the point proves it outside by the margin when
       // it cannot have crossed the skin on the way from its grown place (as in SkinGuard::keep_out),
       // far cheaper than the exact search. It fails for a point moved nearer the skin: then the search.
-      const float moved = before - bound;
+      const float moved = std::sqrt(moved_sq);
       if (j == 1 && before > 0.0f && before + skin_margin > moved && !grid.near_open_edge(pts[j]) &&
           grid.clear_within(pts[j], skin_margin)) {
         guard.know(pts[j], skin_margin);

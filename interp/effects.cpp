@@ -623,12 +623,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     if (buffers_lock.owns_lock()) grown_buffer = &buffers_->grown_positions;
   }
   std::vector<Eigen::Vector3f> &grown_positions = *grown_buffer;
-  grown_positions.resize(r_strands.positions.size());
-#pragma omp parallel for schedule(static)
-  for (int64_t i = 0; i < n; ++i) {
-    const std::span<const Eigen::Vector3f> pts = r_strands.points(size_t(i));
-    std::copy(pts.begin(), pts.end(), grown_positions.begin() + r_strands.offsets[size_t(i)]);
-  }
+  grown_positions.resize(r_strands.positions.size());  // filled strand by strand by the first pass
 
   // Tension needs each guide's arc lengths and posed root normal once per frame.
   const bool any_tension = std::any_of(effects_.begin(), effects_.end(),
@@ -725,6 +720,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
 #pragma omp for schedule(static, 64)
       for (int64_t i = 0; i < n; ++i) {
         const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
+        if (first == 0) std::copy(pts.begin(), pts.end(), grown_positions.begin() + r_strands.offsets[size_t(i)]);
         if (clump_pass) {
           const Prepared &e = effects_[first];
           if (e.strength[i] != 0.0f) {

@@ -197,6 +197,39 @@ TEST_CASE("the thread count does not change binding or strands", "[interp]") {
   omp_set_num_threads(threads);
 }
 
+TEST_CASE("a streamline strand is the same to the bit whichever strands are grown with it", "[interp]") {
+  // Growth takes strands two at a time and evaluates their fields together; each strand must not
+  // depend on its partner. Gentle arcs and tight curls (where the pace term acts), guides of several
+  // lengths (so partners step differently), and k = 6: a full and a partial group of four guides.
+  const auto helix = [](int i) {
+    const float radius = 0.04f, rise = 0.02f, phase = 0.5f * float(i);
+    return std::function<Eigen::Vector3f(float)>([=](float s) {
+      const float turn = s / std::sqrt(radius * radius + rise * rise);
+      return Eigen::Vector3f(radius * (std::cos(turn + phase) - std::cos(phase)),
+                             radius * (std::sin(turn + phase) - std::sin(phase)), rise * turn);
+    });
+  };
+  const CapScene arcs([](int i) { return arc_shape(0.5f + 0.2f * float(i % 3)); }, 24,
+                      [](int i) { return 0.5f + 0.1f * float(i % 4); }, 41);
+  const CapScene curls(helix, 64, [](int i) { return 0.8f + 0.1f * float(i % 4); }, 41, true);
+  for (const CapScene *scene : {&arcs, &curls})
+    for (const int k : {4, 6}) {
+      const InterpolationSettings settings = settings_for(Method::streamline, k);
+      const interp::Binding binding = interp::bind(scene->mesh, scene->guides, scene->roots, settings);
+      const StrandSet all = grow_all(binding, scene->mesh, scene->query, scene->roots, scene->guides.strands);
+      for (size_t r = 0; r < scene->roots.size(); r += 3) {
+        Roots alone;
+        alone.points = {scene->roots.points[r]};
+        alone.ids = {scene->roots.ids[r]};
+        const interp::Binding single = interp::bind(scene->mesh, scene->guides, alone, settings);
+        const StrandSet strand = grow_all(single, scene->mesh, scene->query, alone, scene->guides.strands);
+        const std::span<const Eigen::Vector3f> in_all = all.points(r);
+        REQUIRE(strand.positions.size() == in_all.size());
+        CHECK(std::memcmp(strand.positions.data(), in_all.data(), in_all.size() * sizeof(Eigen::Vector3f)) == 0);
+      }
+    }
+}
+
 namespace {
 
 /// Paper, Figure 4: two guides in the plane y = 0 over the skin z = 0. Guide A rises straight up;

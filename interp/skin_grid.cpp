@@ -161,8 +161,6 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
   }
   padding.radius = Float4{};
   padding.triangle = Int4{} - 1;
-  for (int i = 0; i < 3; ++i)
-    for (int a = 0; a < 3; ++a) padding.corner[i][a] = Float4{};
   cell_blocks_.assign(size_t(cell_offsets_[cell_count]), padding);
   for (size_t c = 0; c < cell_count; ++c)
     for (int32_t i = listed_offsets[c]; i < listed_offsets[c + 1]; ++i) {
@@ -175,8 +173,6 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
       }
       block.radius[lane] = entry.radius;
       block.triangle[lane] = entry.triangle;
-      for (int corner = 0; corner < 3; ++corner)
-        for (int a = 0; a < 3; ++a) block.corner[corner][a][lane] = vertex(entry.triangle, corner)[a];
     }
   // Chessboard distance transform: two raster passes over the 26-neighbourhood are exact for it.
   cell_distance_.assign(cell_count, 255);
@@ -331,8 +327,16 @@ inline int SkinGrid::may_be_within(const CellBlock &block, Float4 px, Float4 py,
 #endif
 }
 
-void SkinGrid::closest_in_block(const CellBlock &block, Float4 px, Float4 py, Float4 pz, Float4 r_bary[3],
-                                Float4 &r_distance_sq) {
+void SkinGrid::closest_in_block(const CellBlock &cell_block, Float4 px, Float4 py, Float4 pz, Float4 r_bary[3],
+                                Float4 &r_distance_sq) const {
+  struct {
+    Float4 corner[3][3];
+  } block;
+  for (int l = 0; l < 4; ++l) {
+    const int f = std::max(cell_block.triangle[l], 0);
+    for (int i = 0; i < 3; ++i)
+      for (int a = 0; a < 3; ++a) block.corner[i][a][l] = vertex(f, i)[a];
+  }
   // closest_on_triangle's operations lane by lane, every region's answer computed and the first
   // whose condition holds kept, in the order of its tests (dot products add x + (y + z), as Eigen).
   const Float4 p[3] = {px, py, pz};

@@ -105,12 +105,12 @@ class SkinGrid {
     Float4 radius;     // largest distance from the centroid to a corner
     Float4 normal[3];  // unit normal of the triangle's plane (0 for a triangle too thin for one)
     Int4 triangle;
-    Float4 corner[3][3];  // corner[i][axis]: the triangle's corners, for closest_in_block
   };
   /// Closest points of the block's four triangles to p (barycentric weights and squared distances,
-  /// lanes as the block's), each the same to the bit as closest_on_triangle for that triangle alone.
-  static void closest_in_block(const CellBlock &block, Float4 px, Float4 py, Float4 pz, Float4 r_bary[3],
-                               Float4 &r_distance_sq);
+  /// lanes as the block's; the corners gathered from the mesh), each the same to the bit as
+  /// closest_on_triangle for that triangle alone. A padding lane gets triangle 0's.
+  void closest_in_block(const CellBlock &block, Float4 px, Float4 py, Float4 pz, Float4 r_bary[3],
+                        Float4 &r_distance_sq) const;
   /// Bit l set unless the triangle of lane l is certainly farther than `reach` from p (px, py, pz in
   /// every lane): p is too far from its bounding sphere, or from the disc of that radius in the
   /// triangle's plane (the distance to the plane and the gap beside the disc, with slack for

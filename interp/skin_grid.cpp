@@ -80,8 +80,11 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
   double edge_sum = 0.0;
   size_t used = 0;
+  // Triangles without area (degenerate) are left out of the grid.
+  std::vector<uint8_t> listed_triangle(mesh.triangle_count());
+  for (size_t f = 0; f < mesh.triangle_count(); ++f) listed_triangle[f] = mesh.triangle_area(f) > 0.0;
   for (size_t f = 0; f < mesh.triangle_count(); ++f) {
-    if (!(mesh.triangle_area(f) > 0.0)) continue;
+    if (!listed_triangle[f]) continue;
     const Eigen::Vector3i &t = mesh.triangles[f];
     for (int i = 0; i < 3; ++i) {
       lo = lo.cwiseMin(mesh.positions[size_t(t[i])]);
@@ -139,7 +142,7 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
       fill.assign(listed_offsets.begin(), listed_offsets.end() - 1);
     }
     for (size_t f = 0; f < mesh.triangle_count(); ++f) {
-      if (!(mesh.triangle_area(f) > 0.0)) continue;
+      if (!listed_triangle[f]) continue;
       cell_range(f, clo, chi);
       for (int z = clo.z(); z <= chi.z(); ++z)
         for (int y = clo.y(); y <= chi.y(); ++y)
@@ -174,30 +177,42 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
       block.radius[lane] = entry.radius;
       block.triangle[lane] = entry.triangle;
     }
-  // Chessboard distance transform: two raster passes over the 26-neighbourhood are exact for it.
-  cell_distance_.assign(cell_count, 255);
-  for (size_t c = 0; c < cell_count; ++c)
-    if (cell_offsets_[c + 1] > cell_offsets_[c]) cell_distance_[c] = 0;
+  // Chessboard distance transform: two raster passes over the 26-neighbourhood are exact for it. They
+  // run on a copy padded by one cell of 255 on every side, so that no neighbour needs a bounds test.
+  const int64_t padded_x = dims_.x() + 2, padded_y = dims_.y() + 2, padded_z = dims_.z() + 2;
+  std::vector<uint8_t> padded(size_t(padded_x * padded_y * padded_z), 255);
+  auto padded_index = [&](int x, int y, int z) { return size_t((int64_t(z + 1) * padded_y + (y + 1)) * padded_x + (x + 1)); };
+  for (int z = 0; z < dims_.z(); ++z)
+    for (int y = 0; y < dims_.y(); ++y)
+      for (int x = 0; x < dims_.x(); ++x) {
+        const size_t c = cell_index(x, y, z);
+        if (cell_offsets_[c + 1] > cell_offsets_[c]) padded[padded_index(x, y, z)] = 0;
+      }
+  // The 13 neighbours a forward raster has already visited: the whole layer below, the row before,
+  // the cell before.
+  int64_t before[13];
+  int count = 0;
+  for (int dz = -1; dz <= 0; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (dz < 0 || dy < 0 || (dy == 0 && dx < 0)) before[count++] = (dz * padded_y + dy) * padded_x + dx;
   for (int pass = 0; pass < 2; ++pass) {
-    const int step = pass == 0 ? 1 : -1;
+    const int64_t sign = pass == 0 ? 1 : -1;
     for (int zi = 0; zi < dims_.z(); ++zi)
       for (int yi = 0; yi < dims_.y(); ++yi)
         for (int xi = 0; xi < dims_.x(); ++xi) {
           const int z = pass == 0 ? zi : dims_.z() - 1 - zi, y = pass == 0 ? yi : dims_.y() - 1 - yi,
                     x = pass == 0 ? xi : dims_.x() - 1 - xi;
-          int best = cell_distance_[cell_index(x, y, z)];
-          // The 13 neighbours already visited in this raster order.
-          for (int dz = -1; dz <= 0; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                const int nx = x + step * dx, ny = y + step * dy, nz = z + step * dz;
-                if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_.x() || ny >= dims_.y() || nz >= dims_.z()) continue;
-                best = std::min(best, int(cell_distance_[cell_index(nx, ny, nz)]) + 1);
-              }
-          cell_distance_[cell_index(x, y, z)] = uint8_t(std::min(best, 255));
+          uint8_t *cell = padded.data() + padded_index(x, y, z);
+          int best = *cell;
+          for (int n = 0; n < 13; ++n) best = std::min(best, int(cell[sign * before[n]]) + 1);
+          *cell = uint8_t(std::min(best, 255));
         }
   }
+  cell_distance_.resize(cell_count);
+  for (int z = 0; z < dims_.z(); ++z)
+    for (int y = 0; y < dims_.y(); ++y)
+      for (int x = 0; x < dims_.x(); ++x) cell_distance_[cell_index(x, y, z)] = padded[padded_index(x, y, z)];
   // Open edges: edges of exactly one triangle, counted over sorted vertex-pair keys of welded
   // vertices (a mesh split along a UV seam is not open there); an edge whose ends are one vertex (of
   // a degenerate triangle) is no edge. The cells an open edge's bounding box touches, and one cell

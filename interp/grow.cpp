@@ -257,19 +257,14 @@ struct StreamlineSlots {
   int group_count = 0;
   Group groups[max_groups];
   Progress progress[max_groups];
-  /// The search's scales, from the strand's step.
-  float window_arc = 0.0f;  // half width of the window in guide arc length (lookahead * step / 2)
-  int lookahead = 1;        // and at least this many segments
-  float hit_distance_sq = 0.0f;
-  float tie_sq = 0.0f;      // a later segment within this of the best wins (vertex ties go forward)
 };
 
 /// Streamline direction field at `p`: on each guide, the closest point within a window moving
 /// forward from the slot's last segment; the guides' tangents there are blended with weights
 /// influence_i / d_i (a guide at distance ~0 takes all the weight). 1/d keeps the ratio of distances:
 /// between two straight guides meeting at an angle, sin(a - phi) e_0 + sin(phi) e_a is parallel to
-/// e_phi (sine rule), so the blended direction points along the ray of constant ratio. The field's value
-/// is the unit direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
+/// e_phi (sine rule), so the blended direction points along the ray of constant ratio. Returns the unit
+/// direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
 ///
 /// Four guides are searched at once, one per SIMD lane (the search is most of growth's time). The
 /// lanes walk their guides in step, a lane that has stopped masked out of the rest, so each picks the
@@ -278,368 +273,126 @@ struct StreamlineSlots {
 /// add x + (y + z); no fused multiply-add), and the blend adds the guides up one by one in slot
 /// order, so the result is the same to the bit as a guide-by-guide search.
 struct StreamlineField {
-  /// One evaluation of the field: at p, `arc` along the strand, with that strand's guides.
-  struct Query {
-    Eigen::Vector3f p;
-    float arc;
-    StreamlineSlots *slots;
-    Eigen::Vector3f fallback;
-    float *r_nearest = nullptr;  // distance to the nearest guide (0 on one), when wanted
-    Eigen::Vector3f result = Eigen::Vector3f::Zero();
-  };
+  const FrameGuides &frame;
+  float window_arc;   // half width of the window in guide arc length (lookahead * step / 2)
+  int lookahead;      // and at least this many segments
+  float hit_distance_sq;
+  float tie_sq;       // a later segment within this of the best wins (vertex ties go forward)
 
-  /// The field at one point.
-  static Eigen::Vector3f at(const Eigen::Vector3f &p, float arc, StreamlineSlots &slots,
-                            const Eigen::Vector3f &fallback, float *r_nearest = nullptr) {
-    Query query{p, arc, &slots, fallback, r_nearest};
-    evaluate(&query, 1);
-    return query.result;
-  }
-
-  /// Evaluates `count` (1 or 2) queries of different strands at once: their groups of four guides are
-  /// searched two at a time in one loop, so that the processor overlaps two independent searches
-  /// (one search is a chain of dependent loads and compares). Each query's result is the same to the
-  /// bit as when evaluated alone.
-  static void evaluate(Query *queries, int count) {
-    constexpr int max_jobs = 2 * StreamlineSlots::max_groups;
-    Job jobs[max_jobs];
-    int job_count = 0;
-    for (int q = 0; q < count; ++q) {
-      StreamlineSlots &slots = *queries[q].slots;
-      const Float4 px = Float4{} + queries[q].p.x(), py = Float4{} + queries[q].p.y(), pz = Float4{} + queries[q].p.z();
-      for (int g = 0; g < slots.group_count; ++g) {
-        Job &job = jobs[job_count++];
-        job.group = &slots.groups[g];
-        job.progress = &slots.progress[g];
-        job.px = px;
-        job.py = py;
-        job.pz = pz;
-        job.expected = queries[q].arc * slots.groups[g].arc_scale;
-        job.window_arc = slots.window_arc;
-        job.lookahead = slots.lookahead;
-        job.tie_sq = slots.tie_sq;
-      }
-    }
-    int done = 0;
-    for (; done + 2 <= job_count; done += 2) search<2>(jobs + done);
-    if (done < job_count) search<1>(jobs + done);
-    const Job *job = jobs;
-    for (int q = 0; q < count; ++q) {
-      const StreamlineSlots &slots = *queries[q].slots;
-      Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
-      float weight_sum = 0.0f, hit_sum = 0.0f, nearest_sq = INFINITY;
-      for (int group_index = 0; group_index < slots.group_count; ++group_index, ++job) {
-        for (int l = 0; l < 4 && 4 * group_index + l < slots.used; ++l) {
-          const float influence = job->group->influence[l];
-          if (influence > 0.0f) nearest_sq = std::min(nearest_sq, job->best_sq[l]);
-          const Eigen::Vector3f direction(job->tangent[0][l], job->tangent[1][l], job->tangent[2][l]);
-          if (job->best_sq[l] <= slots.hit_distance_sq) {
-            hit_blend += influence * direction;
-            hit_sum += influence;
-          } else if (hit_sum == 0.0f) {
-            blend += job->weight[l] * direction;
-            weight_sum += job->weight[l];
-          }
-        }
-      }
-      if (hit_sum > 0.0f) {
-        blend = hit_blend;
-        weight_sum = hit_sum;
-        nearest_sq = 0.0f;
-      }
-      if (queries[q].r_nearest) *queries[q].r_nearest = std::sqrt(nearest_sq);
-      const float norm = blend.norm();
-      queries[q].result =
-          norm > 1e-6f * weight_sum && norm > 0.0f ? Eigen::Vector3f(blend * (1.0f / norm)) : queries[q].fallback;
-    }
-  }
-
- private:
-  /// The search of one group of four guides for one query, and what it finds.
-  struct Job {
-    const StreamlineSlots::Group *group;
-    StreamlineSlots::Progress *progress;
-    Float4 px, py, pz;  // the query point in every lane
-    Float4 expected;    // where a strand keeping pace with the guide would be on it (guide arc)
-    float window_arc;   // the strand's search scales (see StreamlineSlots)
-    int lookahead;
-    float tie_sq;
-    Float4 best_sq;     // squared distance to the chosen point
-    Float4 tangent[3];  // unit tangent of the guide there
-    Float4 weight;      // influence / distance
-  };
-
-  /// Searches N jobs in step: each loop runs while any job needs it, a job that is done masked out
-  /// (its state no longer changes), so each job does exactly the operations it would alone.
-  template <int N>
-  static void search(Job *jobs) {
-    // The window: from the last closest point (never backwards), over the guide arc around where a
-    // strand keeping pace with the guide would be (arc * guide length / strand length).
-    Float4 window_low[N], window_high[N];
-    Int4 start[N];
-    for (int j = 0; j < N; ++j) {
-      window_low[j] = jobs[j].expected - jobs[j].window_arc;
-      window_high[j] = jobs[j].expected + jobs[j].window_arc;
-      start[j] = jobs[j].progress->segment;
-    }
-    for (;;) {
-      Int4 advance[N];
-      bool moving = false;
-      for (int j = 0; j < N; ++j) {
-        const StreamlineSlots::Group &group = *jobs[j].group;
-        const Int4 has_next = start[j] + 1 < group.segment_count;
-        const Int4 next = start[j] - has_next;
+  Eigen::Vector3f operator()(const Eigen::Vector3f &p, float arc, StreamlineSlots &slots,
+                             const Eigen::Vector3f &fallback, float *r_nearest = nullptr) const {
+    Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
+    float weight_sum = 0.0f, hit_sum = 0.0f, nearest_sq = INFINITY;
+    const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z();
+    for (int group_index = 0; group_index < slots.group_count; ++group_index) {
+      const StreamlineSlots::Group &group = slots.groups[group_index];
+      StreamlineSlots::Progress &progress = slots.progress[group_index];
+      // The window: from the last closest point (never backwards), over the guide arc around where a
+      // strand keeping pace with the guide would be (arc * guide length / strand length).
+      const Float4 expected = arc * group.arc_scale;
+      const Float4 window_low = expected - window_arc, window_high = expected + window_arc;
+      Int4 start = progress.segment;
+      for (;;) {
+        const Int4 has_next = start + 1 < group.segment_count;
+        const Int4 next = start - has_next;
         const Float4 next_arc = {group.segments[0][next[0]].arc, group.segments[1][next[1]].arc,
                                  group.segments[2][next[2]].arc, group.segments[3][next[3]].arc};
-        advance[j] = has_next & (next_arc <= window_low[j]);
-        moving |= any(advance[j]);
+        const Int4 advance = has_next & (next_arc <= window_low);
+        if (!any(advance)) break;
+        start -= advance;
       }
-      if (!moving) break;
-      for (int j = 0; j < N; ++j) start[j] -= advance[j];
-    }
-    // Farther from a curl than about its radius (1 / curvature), the squared distance along the
-    // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
-    // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
-    // and the blended direction wanders between coils. The pace term lambda (s - expected)^2, with
-    // lambda = max(0, 2 kappa |p - q| - 1/2) and kappa the sustained curvature, keeps the cost
-    // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
-    // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
-    // of distances needs. |p - q| is the previous evaluation's, half a step behind.
-    Float4 lambda[N], inverse_one_plus_lambda[N];
-    for (int j = 0; j < N; ++j) {
-      lambda[j] = jobs[j].progress->pace;
-      inverse_one_plus_lambda[j] = lambda[j] > 0.0f ? 1.0f / (1.0f + lambda[j]) : Float4{} + 1.0f;
-    }
-    // Segment s's cost in each lane of job j: its point of least cost (at r_t along it), the squared
-    // distance there, and the segment's arc.
-    auto segment_cost = [&](int j, Int4 s, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc) {
-      const Job &job = jobs[j];
-      Float4 start_arc[4], direction_length[4];
-      load_quad(job.group->segments, s, 0, start_arc);
-      load_quad(job.group->segments, s, 1, direction_length);
-      const Float4 &segment_arc = start_arc[3], &length = direction_length[3];
-      r_arc = segment_arc;
-      const Float4 ox = job.px - start_arc[0], oy = job.py - start_arc[1], oz = job.pz - start_arc[2];
-      const Float4 dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
-      const Float4 t =
-          (ox * dx + (oy * dy + oz * dz) + lambda[j] * (job.expected - segment_arc)) * inverse_one_plus_lambda[j];
-      r_t = t < 0.0f ? Float4{} : (length < t ? length : t);  // std::clamp(t, 0, length)
-      const Float4 ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
-      r_distance_sq = ex * ex + (ey * ey + ez * ez);
-      const Float4 lag = segment_arc + r_t - job.expected;
-      return r_distance_sq + lambda[j] * lag * lag;
-    };
-    // The cost is convex along the guide (the pace term above), so its minimum over each segment
-    // falls then rises along the window: walk forward from the window's first segment while the
-    // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment), or
-    // until the window ends (past both `lookahead` segments and the window's arc). Usually one or
-    // two segments are looked at instead of the whole window; the lanes walk together while any
-    // of them still moves on.
-    Int4 last[N], best[N], candidate[N], walking[N];
-    Float4 best_t[N], best_sq[N], best_cost[N];
-    bool any_walking = false;
-    for (int j = 0; j < N; ++j) {
-      last[j] = jobs[j].group->segment_count - 1;
-      best[j] = candidate[j] = start[j];
-      Float4 first_arc;  // the window's first segment is taken whatever its arc
-      best_cost[j] = segment_cost(j, start[j], best_t[j], best_sq[j], first_arc);
-      walking[j] = best[j] < last[j];
-      any_walking |= any(walking[j]);
-    }
-    while (any_walking) {
-      any_walking = false;
-      for (int j = 0; j < N; ++j) {
+      // Farther from a curl than about its radius (1 / curvature), the squared distance along the
+      // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
+      // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
+      // and the blended direction wanders between coils. The pace term lambda (s - expected)^2, with
+      // lambda = max(0, 2 kappa |p - q| - 1/2) and kappa the sustained curvature, keeps the cost
+      // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
+      // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
+      // of distances needs. |p - q| is the previous evaluation's, half a step behind.
+      const Float4 lambda = progress.pace;
+      const Float4 inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float4{} + 1.0f;
+      // Segment j's cost in each lane: its point of least cost (at r_t along it), the squared
+      // distance there, and the segment's arc.
+      auto segment_cost = [&](Int4 j, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc) {
+        Float4 start_arc[4], direction_length[4];
+        load_quad(group.segments, j, 0, start_arc);
+        load_quad(group.segments, j, 1, direction_length);
+        const Float4 &segment_arc = start_arc[3], &length = direction_length[3];
+        r_arc = segment_arc;
+        const Float4 ox = px - start_arc[0], oy = py - start_arc[1], oz = pz - start_arc[2];
+        const Float4 dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
+        const Float4 t = (ox * dx + (oy * dy + oz * dz) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda;
+        r_t = t < 0.0f ? Float4{} : (length < t ? length : t);  // std::clamp(t, 0, length)
+        const Float4 ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
+        r_distance_sq = ex * ex + (ey * ey + ez * ez);
+        const Float4 lag = segment_arc + r_t - expected;
+        return r_distance_sq + lambda * lag * lag;
+      };
+      // The cost is convex along the guide (the pace term above), so its minimum over each segment
+      // falls then rises along the window: walk forward from the window's first segment while the
+      // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment), or
+      // until the window ends (past both `lookahead` segments and the window's arc). Usually one or
+      // two segments are looked at instead of the whole window; the lanes walk together while any
+      // of them still moves on.
+      const Int4 last = group.segment_count - 1;
+      Int4 best = start, candidate = start;
+      Float4 best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
+      Float4 best_cost = segment_cost(start, best_t, best_sq, first_arc);
+      Int4 walking = best < last;
+      while (any(walking)) {
         // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
         // others; counted apart from `best` so that the next loads need not wait for the costs.
-        candidate[j] = candidate[j] < last[j] ? candidate[j] + 1 : candidate[j];
+        candidate = candidate < last ? candidate + 1 : candidate;
         Float4 t, distance_sq, segment_arc;
-        const Float4 cost = segment_cost(j, candidate[j], t, distance_sq, segment_arc);
-        const Int4 in_window = (candidate[j] - start[j] < jobs[j].lookahead) | ~(segment_arc > window_high[j]);
-        const Int4 take = walking[j] & in_window & ~(cost > best_cost[j] + jobs[j].tie_sq);
-        best_cost[j] = take ? cost : best_cost[j];
-        best_sq[j] = take ? distance_sq : best_sq[j];
-        best_t[j] = take ? t : best_t[j];
-        best[j] -= take;
-        walking[j] = take & (best[j] < last[j]);
-        any_walking |= any(walking[j]);
+        const Float4 cost = segment_cost(candidate, t, distance_sq, segment_arc);
+        const Int4 in_window = (candidate - start < lookahead) | ~(segment_arc > window_high);
+        const Int4 take = walking & in_window & ~(cost > best_cost + tie_sq);
+        best_cost = take ? cost : best_cost;
+        best_sq = take ? distance_sq : best_sq;
+        best_t = take ? t : best_t;
+        best -= take;
+        walking = take & (best < last);
       }
-    }
-    for (int j = 0; j < N; ++j) {
-      Job &job = jobs[j];
-      job.progress->segment = best[j];
-      const Float4 best_distance = sqrt4(best_sq[j]);
+      progress.segment = best;
+      const Float4 best_distance = sqrt4(best_sq);
       // The guides' tangents at the chosen points: linear along the segment between its two ends'.
       Float4 direction_length[4], start_tangent[4], end_tangent[4];
-      load_quad(job.group->segments, best[j], 1, direction_length);
-      load_quad(job.group->segments, best[j], 2, start_tangent);
-      load_quad(job.group->segments, best[j], 3, end_tangent);
-      const Float4 u = best_t[j] * start_tangent[3];
+      load_quad(group.segments, best, 1, direction_length);
+      load_quad(group.segments, best, 2, start_tangent);
+      load_quad(group.segments, best, 3, end_tangent);
+      const Float4 u = best_t * start_tangent[3];
       Float4 tangent[3];
       for (int c = 0; c < 3; ++c) tangent[c] = (1.0f - u) * start_tangent[c] + u * end_tangent[c];
       const Float4 norm = sqrt4(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
       const Float4 inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
-      for (int c = 0; c < 3; ++c) job.tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
-      job.best_sq = best_sq[j];
-      job.weight = job.group->influence / best_distance;
+      for (int c = 0; c < 3; ++c) tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
+      const Float4 weight = group.influence / best_distance;
       const Float4 pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
-      job.progress->pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
+      progress.pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
+
+      for (int l = 0; l < 4 && 4 * group_index + l < slots.used; ++l) {
+        const float influence = group.influence[l];
+        if (influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq[l]);
+        const Eigen::Vector3f direction(tangent[0][l], tangent[1][l], tangent[2][l]);
+        if (best_sq[l] <= hit_distance_sq) {
+          hit_blend += influence * direction;
+          hit_sum += influence;
+        } else if (hit_sum == 0.0f) {
+          blend += weight[l] * direction;
+          weight_sum += weight[l];
+        }
+      }
     }
+    if (hit_sum > 0.0f) {
+      blend = hit_blend;
+      weight_sum = hit_sum;
+      nearest_sq = 0.0f;
+    }
+    if (r_nearest) *r_nearest = std::sqrt(nearest_sq);
+    const float norm = blend.norm();
+    return norm > 1e-6f * weight_sum && norm > 0.0f ? Eigen::Vector3f(blend * (1.0f / norm)) : fallback;
   }
 };
-
-/// One streamline strand as it grows, step after step: its guides' search state, its skin guard,
-/// and the field directions the midpoint predictor carries from one step to the next. Strands are
-/// grown two at a time (grow_streamline_steps), their field evaluations made together.
-struct StreamlineStrand {
-  StreamlineStrand(const MeshQuery &query, float margin, float scale, const SkinGrid *grid)
-      : guard(query, margin, scale, grid), grid(grid) {}
-
-  Eigen::Vector3f *points = nullptr;  // the strand's points, filled in growing
-  float *clearance = nullptr;         // its proven clearances, or null
-  float step = 0.0f;                  // segment length
-  StreamlineSlots slots;
-  SkinGuard guard;
-  const SkinGrid *grid;
-  Eigen::Vector3f direction = Eigen::Vector3f::Zero();  // of the last segment
-  // The field at the last two midpoints, when `history` (see grow_streamline_steps).
-  Eigen::Vector3f last_middle = Eigen::Vector3f::Zero(), previous_middle = Eigen::Vector3f::Zero();
-  bool history = false;
-  float nearest = 0.0f;  // distance to the nearest guide at the last evaluation that asked for it
-
-  /// Steps along `direction` by one segment, out of the skin; if pushed, re-aims so the segment
-  /// keeps its length, and checks again with a query (see SkinGuard::keep_out).
-  Eigen::Vector3f advance(const Eigen::Vector3f &from, const Eigen::Vector3f &direction_to) {
-    Eigen::Vector3f to = from + step * direction_to;
-    const Eigen::Vector3f aimed = to;
-    guard.keep_out(to);
-    if (to != aimed) {
-      to = from + step * unit_or(to - from, direction_to);
-      guard.keep_out(to, true);
-    }
-    return to;
-  }
-  /// What the guard proved at a point, or the grid's cell bound (a lookup) when that is larger.
-  float proven_clearance(const Eigen::Vector3f &p) const {
-    return std::max(guard.lower_bound(p), grid->distance_lower_bound(p));
-  }
-  /// Whether step i may use the predicted midpoint (one evaluation) rather than a full step.
-  bool predicts() const { return history && !(nearest > 0.0f && nearest < 0.5f * step); }
-};
-
-/// Grows points 2 .. n - 1 of `count` (1 or 2) strands whose first two points are placed. Midpoint
-/// steps through the guides' direction field: exact on a guide traced from its root. Where the field
-/// is smooth along the strand, the midpoint is placed with the field's direction at the step's start
-/// predicted from the directions found at the last two midpoints (linear extrapolation, F(p_i) ~
-/// 1.5 F(m_i-1/2) - 0.5 F(m_i-3/2)): the midpoint is then off by O(h^3) and the step keeps the
-/// midpoint rule's order with one field evaluation instead of two. Smooth means that the second
-/// difference of those directions, with the new one, stays below kSmoothTurning; otherwise (a sharp
-/// bend of a guide, a tight curl, the strand pushed off by the skin) the step is redone in full from
-/// the field at its start. The first step, and any step where the nearest guide is closer than half
-/// a step (but not on it), are full steps too: there the field turns faster than one step resolves,
-/// so the step is split into substeps of about that distance (at most max_substeps), and the point
-/// lands one segment length along their chord.
-///
-/// The two strands' evaluations of each phase of a step are made together (StreamlineField::evaluate);
-/// each strand's points are the same to the bit as when grown alone.
-void grow_streamline_steps(StreamlineStrand *strands, int count, int n) {
-  constexpr int max_substeps = 8;
-  constexpr float kSmoothTurning = 0.01f;
-  using Query = StreamlineField::Query;
-  for (int i = 1; i + 1 < n; ++i) {
-    // Predicted midpoints.
-    Query queries[2];
-    int owners[2], query_count = 0;
-    float middle_nearest[2] = {0.0f, 0.0f};
-    Eigen::Vector3f start_direction[2];
-    StreamlineSlots::Progress saved[2][StreamlineSlots::max_groups];
-    bool full[2] = {true, true};
-    for (int a = 0; a < count; ++a) {
-      StreamlineStrand &strand = strands[a];
-      if (!strand.predicts()) continue;
-      start_direction[a] = unit_or(1.5f * strand.last_middle - 0.5f * strand.previous_middle, strand.last_middle);
-      const Eigen::Vector3f middle = strand.points[i] + (0.5f * strand.step) * start_direction[a];
-      std::copy(strand.slots.progress, strand.slots.progress + strand.slots.group_count, saved[a]);
-      queries[query_count] = {middle, (float(i) + 0.5f) * strand.step, &strand.slots, start_direction[a],
-                              &middle_nearest[a]};
-      owners[query_count++] = a;
-    }
-    StreamlineField::evaluate(queries, query_count);
-    for (int q = 0; q < query_count; ++q) {
-      const int a = owners[q];
-      StreamlineStrand &strand = strands[a];
-      const Eigen::Vector3f &middle_direction = queries[q].result;
-      if ((middle_direction - 2.0f * strand.last_middle + strand.previous_middle).squaredNorm() <=
-          kSmoothTurning * kSmoothTurning) {
-        strand.nearest = middle_nearest[a];
-        strand.points[i + 1] = strand.advance(strand.points[i], middle_direction);
-        strand.direction = unit_or(strand.points[i + 1] - strand.points[i], middle_direction);
-        strand.previous_middle = strand.last_middle;
-        strand.last_middle = middle_direction;
-        if (strand.clearance) strand.clearance[i + 1] = strand.proven_clearance(strand.points[i + 1]);
-        full[a] = false;
-      } else {
-        // The full step searches the guides from where they were.
-        std::copy(saved[a], saved[a] + strand.slots.group_count, strand.slots.progress);
-      }
-    }
-    // Full steps: the field at the step's start, then at the midpoint (or substeps).
-    query_count = 0;
-    for (int a = 0; a < count; ++a) {
-      if (!full[a]) continue;
-      StreamlineStrand &strand = strands[a];
-      queries[query_count] = {strand.points[i], float(i) * strand.step, &strand.slots, strand.direction,
-                              &strand.nearest};
-      owners[query_count++] = a;
-    }
-    StreamlineField::evaluate(queries, query_count);
-    Query middles[2];
-    int middle_owners[2], middle_count = 0;
-    int substeps[2] = {1, 1};
-    for (int q = 0; q < query_count; ++q) {
-      const int a = owners[q];
-      StreamlineStrand &strand = strands[a];
-      start_direction[a] = queries[q].result;
-      substeps[a] = strand.nearest > 0.0f && strand.nearest < 0.5f * strand.step
-                        ? std::min(max_substeps, int(std::ceil(0.5f * strand.step / strand.nearest)))
-                        : 1;
-      const float substep = strand.step / float(substeps[a]);
-      if (substeps[a] == 1) {
-        const float arc = float(i) * strand.step + 0.0f * substep;
-        middles[middle_count] = {strand.points[i] + (0.5f * substep) * start_direction[a], arc + 0.5f * substep,
-                                 &strand.slots, start_direction[a], &strand.nearest};
-        middle_owners[middle_count++] = a;
-        continue;
-      }
-      Eigen::Vector3f p = strand.points[i], last_direction = strand.direction, sub_start = start_direction[a];
-      for (int sub = 0; sub < substeps[a]; ++sub) {
-        const float arc = float(i) * strand.step + float(sub) * substep;
-        if (sub > 0) sub_start = StreamlineField::at(p, arc, strand.slots, last_direction);
-        const Eigen::Vector3f middle = p + (0.5f * substep) * sub_start;
-        last_direction = StreamlineField::at(middle, arc + 0.5f * substep, strand.slots, sub_start, &strand.nearest);
-        p += substep * last_direction;
-      }
-      strand.points[i + 1] = strand.advance(strand.points[i], unit_or(p - strand.points[i], last_direction));
-      strand.direction = unit_or(strand.points[i + 1] - strand.points[i], last_direction);
-      strand.history = false;
-      strand.previous_middle = unit_or(2.0f * sub_start - last_direction, sub_start);
-      strand.last_middle = last_direction;
-      if (strand.clearance) strand.clearance[i + 1] = strand.proven_clearance(strand.points[i + 1]);
-    }
-    StreamlineField::evaluate(middles, middle_count);
-    for (int q = 0; q < middle_count; ++q) {
-      const int a = middle_owners[q];
-      StreamlineStrand &strand = strands[a];
-      const Eigen::Vector3f &last_direction = middles[q].result;
-      strand.points[i + 1] = strand.advance(strand.points[i], last_direction);
-      strand.direction = unit_or(strand.points[i + 1] - strand.points[i], last_direction);
-      // One whole step: the field at the midpoint before it extrapolates back from start and middle.
-      strand.history = true;
-      strand.previous_middle = unit_or(2.0f * start_direction[a] - last_direction, start_direction[a]);
-      strand.last_middle = last_direction;
-      if (strand.clearance) strand.clearance[i + 1] = strand.proven_clearance(strand.points[i + 1]);
-    }
-  }
-}
 
 }  // namespace
 
@@ -684,39 +437,47 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
 
   const int64_t root_count = int64_t(roots.size());
-  // A root's frame and its influencing guides as the binding gives them.
-  struct RootStart {
-    SurfaceFrame frame;
+#pragma omp parallel for schedule(static)
+  for (int64_t r = 0; r < root_count; ++r) {
+    const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
+    const Eigen::Vector3f normal = root_frame.normal();
     Slot slots[max_influences];
     int used = 0;
-  };
-  auto start_root = [&](int64_t r, RootStart &r_start) {
-    r_start.frame = surface_frame(mesh, roots.points[size_t(r)]);
-    r_start.used = 0;
     for (int s = 0; s < k; ++s) {
       const size_t slot = size_t(r) * size_t(k) + size_t(s);
       const int32_t g = binding.guide_ids[slot];
       if (g < 0) break;
       // Q_root(t) * rest rotation * Q_guide(t)^T: a rigid motion of the skin gives back the rest
       // rotation conjugated by that motion, so carried guides move exactly rigidly.
-      r_start.slots[r_start.used++] = {g, binding.weights[slot], binding.influence[slot],
-                                       r_start.frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
-                                           frame.frames[size_t(g)].transpose()};
+      slots[used++] = {g, binding.weights[slot], binding.influence[slot],
+                       root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
+                           frame.frames[size_t(g)].transpose()};
     }
-  };
-  // The root (fur and streamline): on the skin, lifted along its normal by the height of the guides'
-  // own first points above their surface points (carried), never below the skin. Only the height: a
-  // sideways part would move the root off its place on the skin, and where the skin curves (round an
-  // ear) into it.
-  auto place_root = [&](int64_t r, const RootStart &start) {
-    const Eigen::Vector3f normal = start.frame.normal();
+    Eigen::Vector3f *points = r_strands.positions.data() + r * n;
+
+    if (settings.method == InterpolationSettings::Method::linear) {
+      // Root-relative offsets of the resampled guides, blended as they are (no rotation).
+      for (int i = 0; i < n; ++i) {
+        Eigen::Vector3f p = root_frame.origin;
+        for (int s = 0; s < used; ++s) {
+          const size_t g = size_t(slots[s].guide);
+          p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
+        }
+        points[i] = p;
+      }
+      continue;
+    }
+
+    // The root: on the skin, lifted along its normal by the height of the guides' own first points
+    // above their surface points (carried), never below the skin. Only the height: a sideways part
+    // would move the root off its place on the skin, and where the skin curves (round an ear) into it.
     Eigen::Vector3f lift = Eigen::Vector3f::Zero();
-    for (int s = 0; s < start.used; ++s) {
-      const size_t g = size_t(start.slots[s].guide);
-      lift += start.slots[s].weight * (start.slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
+    for (int s = 0; s < used; ++s) {
+      const size_t g = size_t(slots[s].guide);
+      lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
     }
     const float height = std::max(lift.dot(normal), 0.0f);
-    const Eigen::Vector3f root = start.frame.origin + height * normal;
+    points[0] = root_frame.origin + height * normal;
     if (height > 1e-6f * scale && skin_grid) {
       // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
       // normals average its two sides) the normal can lead behind another part of the skin: then the
@@ -724,37 +485,17 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       // size: guide roots on the skin up to rounding) cannot reach another part of it and needs no
       // query.
       SurfacePoint closest;
-      if (skin_grid->signed_distance(root, roots.points[size_t(r)].triangle, closest) < 0.0f) return start.frame.origin;
+      if (skin_grid->signed_distance(points[0], roots.points[size_t(r)].triangle, closest) < 0.0f)
+        points[0] = root_frame.origin;
     }
-    return root;
-  };
 
-  if (!streamline) {
-#pragma omp parallel for schedule(static)
-    for (int64_t r = 0; r < root_count; ++r) {
-      RootStart start;
-      start_root(r, start);
-      const Slot *slots = start.slots;
-      Eigen::Vector3f *points = r_strands.positions.data() + r * n;
-      if (settings.method == InterpolationSettings::Method::linear) {
-        // Root-relative offsets of the resampled guides, blended as they are (no rotation).
-        for (int i = 0; i < n; ++i) {
-          Eigen::Vector3f p = start.frame.origin;
-          for (int s = 0; s < start.used; ++s) {
-            const size_t g = size_t(slots[s].guide);
-            p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
-          }
-          points[i] = p;
-        }
-        continue;
-      }
-      // Fur. Segment j: weighted length and weighted direction of the carried guides' segments j.
-      points[0] = place_root(r, start);
-      Eigen::Vector3f direction = start.frame.normal();
+    if (settings.method == InterpolationSettings::Method::fur) {
+      // Segment j: weighted length and weighted direction of the carried guides' segments j.
+      Eigen::Vector3f direction = normal;
       for (int i = 0; i + 1 < n; ++i) {
         Eigen::Vector3f blend = Eigen::Vector3f::Zero();
         float length = 0.0f;
-        for (int s = 0; s < start.used; ++s) {
+        for (int s = 0; s < used; ++s) {
           const size_t at = size_t(slots[s].guide) * size_t(n - 1) + size_t(i);
           blend += slots[s].weight * (slots[s].rotation * frame.resampled_directions[at]);
           length += slots[s].weight * frame.resampled_lengths[at];
@@ -762,68 +503,124 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         direction = unit_or(blend, direction);
         points[i + 1] = points[i] + length * direction;
       }
+      continue;
     }
-  } else {
-    // Streamline-ratio growth: a strand's first two points here, the rest two strands at a time.
-    auto start_strand = [&](int64_t r, StreamlineStrand &strand) {
-      RootStart start;
-      start_root(r, start);
-      const Slot *slots = start.slots;
-      const int used = start.used;
-      strand.points = r_strands.positions.data() + r * n;
-      strand.clearance = clearance ? clearance + r * n : nullptr;
-      strand.points[0] = place_root(r, start);
-      const float step = strand.step = binding.lengths[size_t(r)] / float(n - 1);
-      // The field's slots: lanes past the last guide repeat their group's first lane.
-      StreamlineSlots &field_slots = strand.slots;
-      field_slots.used = used;
-      field_slots.group_count = (used + 3) / 4;
-      field_slots.window_arc = 0.5f * float(std::max(settings.lookahead_segments, 1)) * step;
-      field_slots.lookahead = std::max(settings.lookahead_segments, 1);
-      field_slots.hit_distance_sq = std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f);
-      field_slots.tie_sq = (1e-5f * step) * (1e-5f * step);
-      for (int lane = 0; lane < 4 * field_slots.group_count; ++lane) {
-        const int s = lane < used ? lane : lane & ~3;
-        const size_t g = size_t(slots[s].guide);
-        const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
-        const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
-        StreamlineSlots::Group &group = field_slots.groups[lane / 4];
-        StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
-        const int l = lane % 4;
-        group.segments[l] = frame.segments.data() + first;
-        group.segment_count[l] = int32_t(last + 1 - first);
-        group.influence[l] = slots[s].influence;
-        group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
-        progress.segment[l] = 0;
-        progress.pace[l] = 0.0f;  // no distance known yet
+
+    // Streamline-ratio growth.
+    const float step = binding.lengths[size_t(r)] / float(n - 1);
+    const StreamlineField field{frame,
+                                0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
+                                std::max(settings.lookahead_segments, 1),
+                                std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
+                                (1e-5f * step) * (1e-5f * step)};
+    // The field's slots: lanes past the last guide repeat their group's first lane.
+    StreamlineSlots field_slots;
+    field_slots.used = used;
+    field_slots.group_count = (used + 3) / 4;
+    for (int lane = 0; lane < 4 * field_slots.group_count; ++lane) {
+      const int s = lane < used ? lane : lane & ~3;
+      const size_t g = size_t(slots[s].guide);
+      const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
+      const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
+      StreamlineSlots::Group &group = field_slots.groups[lane / 4];
+      StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
+      const int l = lane % 4;
+      group.segments[l] = frame.segments.data() + first;
+      group.segment_count[l] = int32_t(last + 1 - first);
+      group.influence[l] = slots[s].influence;
+      group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
+      progress.segment[l] = 0;
+      progress.pace[l] = 0.0f;  // no distance known yet
+    }
+    SkinGuard guard(query, settings.skin_margin, scale, skin_grid);
+    guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
+    // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
+    // keeps its length, and check again with a query (see SkinGuard::keep_out).
+    auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
+      Eigen::Vector3f to = from + step * direction;
+      const Eigen::Vector3f aimed = to;
+      guard.keep_out(to);
+      if (to != aimed) {
+        to = from + step * unit_or(to - from, direction);
+        guard.keep_out(to, true);
       }
-      strand.guard.start(start.frame.origin, roots.points[size_t(r)].triangle);
-      // First step: the guides' first directions carried to this root's frame, so the strand leaves
-      // the skin the way its guides do.
-      Eigen::Vector3f seed = Eigen::Vector3f::Zero();
-      for (int s = 0; s < used; ++s) {
-        const size_t g = size_t(slots[s].guide);
-        seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
-      }
-      Eigen::Vector3f direction = unit_or(seed, start.frame.normal());
-      strand.points[1] = strand.advance(strand.points[0], direction);
-      if (strand.clearance) {
-        strand.clearance[0] = strand.proven_clearance(strand.points[0]);
-        strand.clearance[1] = strand.proven_clearance(strand.points[1]);
-      }
-      strand.direction = unit_or(strand.points[1] - strand.points[0], direction);
-      strand.history = false;
-      strand.nearest = 0.0f;
-      strand.last_middle = strand.previous_middle = strand.direction;
+      return to;
     };
-    const int64_t pair_count = (root_count + 1) / 2;
-#pragma omp parallel for schedule(static)
-    for (int64_t pair = 0; pair < pair_count; ++pair) {
-      StreamlineStrand strands[2]{{query, settings.skin_margin, scale, skin_grid},
-                                  {query, settings.skin_margin, scale, skin_grid}};
-      const int count = 2 * pair + 1 < root_count ? 2 : 1;
-      for (int a = 0; a < count; ++a) start_strand(2 * pair + a, strands[a]);
-      grow_streamline_steps(strands, count, n);
+    // What the guard proved at a point, or the grid's cell bound (a lookup) when that is larger.
+    auto proven_clearance = [&](const Eigen::Vector3f &p) {
+      return std::max(guard.lower_bound(p), skin_grid->distance_lower_bound(p));
+    };
+    // First step: the guides' first directions carried to this root's frame, so the strand leaves
+    // the skin the way its guides do.
+    Eigen::Vector3f seed = Eigen::Vector3f::Zero();
+    for (int s = 0; s < used; ++s) {
+      const size_t g = size_t(slots[s].guide);
+      seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
+    }
+    Eigen::Vector3f direction = unit_or(seed, normal);
+    points[1] = advance(points[0], direction);
+    if (clearance) {
+      clearance[r * n] = proven_clearance(points[0]);
+      clearance[r * n + 1] = proven_clearance(points[1]);
+    }
+    direction = unit_or(points[1] - points[0], direction);
+    // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
+    // Where the field is smooth along the strand, the midpoint is placed with the field's direction at
+    // the step's start predicted from the directions found at the last two midpoints (linear
+    // extrapolation, F(p_i) ~ 1.5 F(m_i-1/2) - 0.5 F(m_i-3/2)): the midpoint is then off by O(h^3) and
+    // the step keeps the midpoint rule's order with one field evaluation instead of two. Smooth means
+    // that the second difference of those directions, with the new one, stays below
+    // kSmoothTurning; otherwise (a sharp bend of a guide, a tight curl, the strand pushed off by the
+    // skin) the step is redone in full from the field at its start. The first step, and any step where
+    // the nearest guide is closer than half a step (but not on it), are full steps too: there the field
+    // turns faster than one step resolves, so the step is split into substeps of about that distance
+    // (at most max_substeps), and the point lands one segment length along their chord.
+    constexpr int max_substeps = 8;
+    constexpr float kSmoothTurning = 0.01f;
+    float nearest = 0.0f;
+    bool history = false;  // last_middle and previous_middle hold the field at the last two midpoints
+    Eigen::Vector3f last_middle = direction, previous_middle = direction;
+    for (int i = 1; i + 1 < n; ++i) {
+      if (history && !(nearest > 0.0f && nearest < 0.5f * step)) {
+        const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
+        const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
+        float middle_nearest = 0.0f;
+        StreamlineSlots::Progress saved[StreamlineSlots::max_groups];
+        std::copy(field_slots.progress, field_slots.progress + field_slots.group_count, saved);
+        const Eigen::Vector3f middle_direction =
+            field(middle, (float(i) + 0.5f) * step, field_slots, start_direction, &middle_nearest);
+        if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= kSmoothTurning * kSmoothTurning) {
+          nearest = middle_nearest;
+          points[i + 1] = advance(points[i], middle_direction);
+          direction = unit_or(points[i + 1] - points[i], middle_direction);
+          previous_middle = last_middle;
+          last_middle = middle_direction;
+          if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
+          continue;
+        }
+        // The full step searches the guides from where they were.
+        std::copy(saved, saved + field_slots.group_count, field_slots.progress);
+      }
+      Eigen::Vector3f start_direction = field(points[i], float(i) * step, field_slots, direction, &nearest);
+      const int substeps = nearest > 0.0f && nearest < 0.5f * step
+                               ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
+                               : 1;
+      const float substep = step / float(substeps);
+      Eigen::Vector3f p = points[i], last_direction = direction;
+      for (int sub = 0; sub < substeps; ++sub) {
+        const float arc = float(i) * step + float(sub) * substep;
+        if (sub > 0) start_direction = field(p, arc, field_slots, last_direction);
+        const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
+        last_direction = field(middle, arc + 0.5f * substep, field_slots, start_direction, &nearest);
+        p += substep * last_direction;
+      }
+      points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
+      direction = unit_or(points[i + 1] - points[i], last_direction);
+      // One whole step: the field at the midpoint before it extrapolates back from start and middle.
+      history = substeps == 1;
+      previous_middle = unit_or(2.0f * start_direction - last_direction, start_direction);
+      last_middle = last_direction;
+      if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
     }
   }
 

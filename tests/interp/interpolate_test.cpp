@@ -198,9 +198,10 @@ TEST_CASE("the thread count does not change binding or strands", "[interp]") {
 }
 
 TEST_CASE("a streamline strand is the same to the bit whichever strands are grown with it", "[interp]") {
-  // Growth takes strands two at a time and evaluates their fields together; each strand must not
-  // depend on its partner. Gentle arcs and tight curls (where the pace term acts), guides of several
-  // lengths (so partners step differently), and k = 6: a full and a partial group of four guides.
+  // A strand must not depend on the strands grown in the same call (their order, their count, what
+  // a thread grows before it): gentle arcs and tight curls (where the pace term acts), guides of
+  // several lengths (so neighbours step differently), and k = 6: a full and a partial group of four
+  // guides.
   const auto helix = [](int i) {
     const float radius = 0.04f, rise = 0.02f, phase = 0.5f * float(i);
     return std::function<Eigen::Vector3f(float)>([=](float s) {

@@ -603,6 +603,40 @@ TEST_CASE("with growth's clearance the stack skips proven points and still ends 
                   InternalError);
 }
 
+TEST_CASE("on strands combed down along the skin, the skin pass's proofs change nothing", "[effects]") {
+  // Grown strands that hug the skin at the margin, which the stack moves a little: most points need
+  // the skin pass, and its bounds (growth's clearances, the grown places it hands the guard, the
+  // empty ball at the first point) must give exactly what checking every point gives.
+  const Mesh mesh = test::make_sphere(1.0f, 32, 64);
+  const MeshQuery query(mesh);
+  const Guides guides = bind_guides(query, test::combed_guides(mesh, scatter_roots(mesh, 120, 11)), "combed");
+  const Roots roots = scatter_roots(mesh, 3000, 3);
+  InterpolationSettings settings;
+  const interp::Binding binding = interp::bind(mesh, guides, roots, settings);
+  std::vector<int32_t> nearest(roots.size());
+  for (size_t i = 0; i < roots.size(); ++i) nearest[i] = binding.guide_ids[i * size_t(binding.k)];
+  interp::GrowOptions options;
+  StrandSet grown;
+  std::vector<float> clearance;
+  interp::grow(binding, mesh, query, roots, guides.strands, options, grown, &clearance);
+  const EffectStack stack(full_stack(1.0f), mesh, roots, guides, nearest);
+  StrandSet with_bounds = grown, without_bounds = grown;
+  stack.apply(mesh, query, guides.strands, settings.skin_margin, with_bounds, clearance);
+  stack.apply(mesh, query, guides.strands, settings.skin_margin, without_bounds);
+  size_t near_skin = 0;
+  float largest_difference = 0.0f;
+  for (size_t i = 0; i < with_bounds.strand_count(); ++i)
+    for (int64_t j = 1; j < with_bounds.points_in(i); ++j) {
+      const float d = query.signed_distance(with_bounds.points(i)[j]);
+      CHECK(d >= settings.skin_margin * (1.0f - 1e-3f));
+      near_skin += d < 2.0f * settings.skin_margin;
+      largest_difference =
+          std::max(largest_difference, (with_bounds.points(i)[j] - without_bounds.points(i)[j]).norm());
+    }
+  CHECK(near_skin > 3000);  // 6756 of 93000 points
+  CHECK(largest_difference <= 1e-5f);
+}
+
 TEST_CASE("simplex noise is smooth, bounded and seeded", "[effects]") {
   const interp::SimplexNoise3 a(1), b(2);
   double differ = 0.0;

@@ -10,10 +10,6 @@
 #include "interp/lanes.h"
 #include "interp/skin_guard.h"
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
-
 namespace plume::interp {
 
 namespace {
@@ -212,15 +208,6 @@ struct Slot {
   Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
 };
 
-/// Whether any lane of a comparison (-1 true, 0 false) is true.
-bool any(Int4 mask) {
-#ifdef __SSE2__
-  return _mm_movemask_ps(_mm_castsi128_ps(__m128i(mask))) != 0;
-#else
-  return (mask[0] | mask[1] | mask[2] | mask[3]) != 0;
-#endif
-}
-
 /// Quad `quad` (0..3, see GuideSegment) of segment index[l] of segments[l] in each lane l, transposed:
 /// r[c] holds component c of the four lanes.
 void load_quad(const GuideSegment *const segments[4], Int4 index, int quad, Float4 r[4]) {
@@ -273,7 +260,6 @@ struct StreamlineSlots {
 /// add x + (y + z); no fused multiply-add), and the blend adds the guides up one by one in slot
 /// order, so the result is the same to the bit as a guide-by-guide search.
 struct StreamlineField {
-  const FrameGuides &frame;
   float window_arc;   // half width of the window in guide arc length (lookahead * step / 2)
   int lookahead;      // and at least this many segments
   float hit_distance_sq;
@@ -508,8 +494,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
 
     // Streamline-ratio growth.
     const float step = binding.lengths[size_t(r)] / float(n - 1);
-    const StreamlineField field{frame,
-                                0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
+    const StreamlineField field{0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
                                 std::max(settings.lookahead_segments, 1),
                                 std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
                                 (1e-5f * step) * (1e-5f * step)};

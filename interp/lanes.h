@@ -23,6 +23,18 @@ inline Float4 sqrt4(Float4 v) {
 #endif
 }
 
+/// The lanes of a comparison (-1 true, 0 false) as bits: bit l set when lane l is true.
+inline int lane_bits(Int4 mask) {
+#ifdef __SSE2__
+  return _mm_movemask_ps(_mm_castsi128_ps(__m128i(mask)));
+#else
+  return (mask[0] & 1) | (mask[1] & 2) | (mask[2] & 4) | (mask[3] & 8);
+#endif
+}
+
+/// Whether any lane of a comparison is true.
+inline bool any(Int4 mask) { return lane_bits(mask) != 0; }
+
 /// Sine and cosine of four angles (radians) with only adds, multiplies and one conversion: the same
 /// bits on every machine, unlike the C library's, whose code differs with the processor. The angle
 /// is reduced by the nearest multiple of pi/2 (pi/2 split in three parts, exact products for

@@ -334,12 +334,7 @@ inline int SkinGrid::may_be_within(const CellBlock &block, Float4 px, Float4 py,
   const Float4 beside = sqrt4(beside_sq > 0.0f ? beside_sq : Float4{}) - block.radius;
   const Float4 lower_sq = (height_sq > 0.0f ? height_sq : Float4{}) + (beside > 0.0f ? beside * beside : Float4{});
   // Comparisons with a padding lane's infinite offsets are false (NaN) or reject it.
-  const Int4 within = ~(offset_sq > far * far) & (lower_sq <= reach * reach) & (block.triangle >= 0);
-#ifdef __SSE2__
-  return _mm_movemask_ps(_mm_castsi128_ps(__m128i(within)));
-#else
-  return (within[0] & 1) | (within[1] & 2) | (within[2] & 4) | (within[3] & 8);
-#endif
+  return lane_bits(~(offset_sq > far * far) & (lower_sq <= reach * reach) & (block.triangle >= 0));
 }
 
 void SkinGrid::closest_in_block(const CellBlock &cell_block, Float4 px, Float4 py, Float4 pz, Float4 r_bary[3],
@@ -396,6 +391,20 @@ void SkinGrid::closest_in_block(const CellBlock &cell_block, Float4 px, Float4 p
   r_distance_sq = offset[0] * offset[0] + (offset[1] * offset[1] + offset[2] * offset[2]);
 }
 
+template <class Visit>
+bool SkinGrid::visit_near(size_t c, Float4 px, Float4 py, Float4 pz, const float &reach, Visit &&visit) const {
+  for (int32_t b = cell_offsets_[c]; b < cell_offsets_[c + 1]; ++b) {
+    const CellBlock &block = cell_blocks_[size_t(b)];
+    const int lanes = may_be_within(block, px, py, pz, reach);
+    if (lanes == 0) continue;
+    Float4 bary[3], distance_sq;
+    closest_in_block(block, px, py, pz, bary, distance_sq);
+    for (int l = 0; l < 4; ++l)
+      if ((lanes >> l & 1) && !visit(int(block.triangle[l]), bary, l, distance_sq[l])) return false;
+  }
+  return true;
+}
+
 bool SkinGrid::clear_within(const Eigen::Vector3f &p, float radius) const {
   if (cell_blocks_.empty()) return true;
   Eigen::Vector3i lo, hi;
@@ -412,15 +421,10 @@ bool SkinGrid::clear_within(const Eigen::Vector3f &p, float radius) const {
       for (int x = lo.x(); x <= hi.x(); ++x) {
         const size_t c = cell_index(x, y, z);
         if (cell_offsets_[c] == cell_offsets_[c + 1] || cell_box_distance_sq(p, x, y, z) >= radius_sq) continue;
-        for (int32_t b = cell_offsets_[c]; b < cell_offsets_[c + 1]; ++b) {
-          const CellBlock &block = cell_blocks_[size_t(b)];
-          const int lanes = may_be_within(block, px, py, pz, radius);
-          if (lanes == 0) continue;
-          Float4 bary[3], distance_sq;
-          closest_in_block(block, px, py, pz, bary, distance_sq);
-          for (int l = 0; l < 4; ++l)
-            if ((lanes >> l & 1) && distance_sq[l] < radius_sq) return false;
-        }
+        const bool clear = visit_near(c, px, py, pz, radius, [&](int, const Float4 *, int, float distance_sq) {
+          return !(distance_sq < radius_sq);
+        });
+        if (!clear) return false;
       }
   return true;
 }
@@ -431,33 +435,24 @@ void SkinGrid::scan_cell(const Eigen::Vector3f &p, size_t c, Nearest &r_nearest)
   // let through by a reach that shrank meanwhile changes nothing.
   float reach = std::sqrt(r_nearest.best_sq) * kNearTie;
   const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z();
-  for (int32_t b = cell_offsets_[c]; b < cell_offsets_[c + 1]; ++b) {
-    const CellBlock &block = cell_blocks_[size_t(b)];
-    const int lanes = may_be_within(block, px, py, pz, reach);
-    if (lanes == 0) continue;
-    Float4 barys[3], distances_sq;
-    closest_in_block(block, px, py, pz, barys, distances_sq);
-    for (int l = 0; l < 4; ++l) {
-      if (!(lanes >> l & 1)) continue;
-      const int f = block.triangle[l];
-      if (f == r_nearest.best || f == r_nearest.second) continue;  // listed in several cells
-      const Eigen::Vector3f bary(barys[0][l], barys[1][l], barys[2][l]);
-      const float distance_sq = distances_sq[l];
-      if (distance_sq < r_nearest.best_sq || (distance_sq == r_nearest.best_sq && f < r_nearest.best)) {
-        r_nearest.second_sq = r_nearest.best_sq;
-        r_nearest.second = r_nearest.best;
-        r_nearest.second_bary = r_nearest.best_bary;
-        r_nearest.best_sq = distance_sq;
-        r_nearest.best = f;
-        r_nearest.best_bary = bary;
-        reach = std::sqrt(distance_sq) * kNearTie;
-      } else if (distance_sq < r_nearest.second_sq) {
-        r_nearest.second_sq = distance_sq;
-        r_nearest.second = f;
-        r_nearest.second_bary = bary;
-      }
+  visit_near(c, px, py, pz, reach, [&](int f, const Float4 *barys, int l, float distance_sq) {
+    if (f == r_nearest.best || f == r_nearest.second) return true;  // listed in several cells
+    const Eigen::Vector3f bary(barys[0][l], barys[1][l], barys[2][l]);
+    if (distance_sq < r_nearest.best_sq || (distance_sq == r_nearest.best_sq && f < r_nearest.best)) {
+      r_nearest.second_sq = r_nearest.best_sq;
+      r_nearest.second = r_nearest.best;
+      r_nearest.second_bary = r_nearest.best_bary;
+      r_nearest.best_sq = distance_sq;
+      r_nearest.best = f;
+      r_nearest.best_bary = bary;
+      reach = std::sqrt(distance_sq) * kNearTie;
+    } else if (distance_sq < r_nearest.second_sq) {
+      r_nearest.second_sq = distance_sq;
+      r_nearest.second = f;
+      r_nearest.second_bary = bary;
     }
-  }
+    return true;
+  });
 }
 
 float SkinGrid::signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const {
@@ -502,7 +497,7 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
     if (ball_hi > hi[a]) gap = std::min(gap, (float(hi[a] + 1) - local) * cell_size_);
   }
   // p's own cell first (when in the block): its triangles are usually the nearest, and a small best
-  // distance early lets the box and sphere tests skip most of the rest.
+  // distance early lets the box and disc tests skip most of the rest.
   const Eigen::Vector3i own = cell_of(p);
   const bool own_in_block = (own.array() >= lo.array()).all() && (own.array() <= hi.array()).all();
   if (own_in_block) scan_cell(p, cell_index(own.x(), own.y(), own.z()), nearest);

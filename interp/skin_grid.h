@@ -117,6 +117,12 @@ class SkinGrid {
   /// rounding). Above a smooth skin the sphere test lets through every triangle near the foot of p;
   /// the disc test keeps only those under it.
   static int may_be_within(const CellBlock &block, Float4 px, Float4 py, Float4 pz, float reach);
+  /// For each triangle of cell c that may lie within `reach` of p (may_be_within; `reach` is read
+  /// again before each block, so a caller may shrink it), calls visit(triangle, bary, lane,
+  /// distance_sq) with its closest point (barycentric weights in lane `lane` of `bary`); stops,
+  /// returning false, as soon as visit returns false.
+  template <class Visit>
+  bool visit_near(size_t c, Float4 px, Float4 py, Float4 pz, const float &reach, Visit &&visit) const;
   /// CSR: the blocks of cell c are cell_blocks_[cell_offsets_[c] .. cell_offsets_[c + 1]).
   std::vector<int32_t> cell_offsets_;
   std::vector<CellBlock> cell_blocks_;

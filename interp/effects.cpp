@@ -677,15 +677,10 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
       }
       // The first point after the root, moved from where growth proved it outside (often just at the
       // margin: pushed there). The guard knows only the root, on the skin, from which no bound
-      // follows; but no triangle within the margin of the point proves it outside by the margin when
-      // it cannot have crossed the skin on the way from its grown place (as in SkinGuard::keep_out),
-      // far cheaper than the exact search. It fails for a point moved nearer the skin: then the search.
-      const float moved = std::sqrt(moved_sq);
-      if (j == 1 && before > 0.0f && before + skin_margin > moved && !grid.near_open_edge(pts[j]) &&
-          grid.clear_within(pts[j], skin_margin)) {
-        guard.know(pts[j], skin_margin);
-        continue;
-      }
+      // follows; but an empty ball of the margin's radius proves the point outside, on its way from
+      // its grown place, far cheaper than the exact search. It fails for a point moved nearer the
+      // skin: then the search.
+      if (j == 1 && guard.clear_by_ball(pts[j], skin_margin, before, std::sqrt(moved_sq))) continue;
       guard.keep_out(pts[j]);
     }
   };

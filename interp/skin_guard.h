@@ -46,6 +46,20 @@ class SkinGuard {
   /// A lower bound of the signed distance at `p` from what the guard knows (1-Lipschitz bound).
   float lower_bound(const Eigen::Vector3f &p) const { return known_distance_ - (p - known_point_).norm(); }
 
+  /// Proves p outside by `radius` (at least the margin) without a distance query, and records it: no
+  /// triangle lies within `radius` of p, and p cannot have crossed the skin since a point outside by
+  /// at least `from_distance` (> 0) that is `moved` away (along that way the distance stays above
+  /// (from_distance + radius - moved) / 2 > 0). False, recording nothing, when that is not shown, or
+  /// p is near an open edge of the mesh.
+  bool clear_by_ball(const Eigen::Vector3f &p, float radius, float from_distance, float moved) {
+    if (!grid_ || radius < margin_ || !(from_distance > 0.0f) || !(from_distance + radius > moved) ||
+        grid_->near_open_edge(p) || !grid_->clear_within(p, radius))
+      return false;
+    known_point_ = p;
+    known_distance_ = radius;
+    return true;
+  }
+
   /// Moves `p` out along the surface normal if its signed distance is below the margin (a few
   /// iterations for concave places, where one move along the normal falls short). `always_query`
   /// skips the bounds: for a point placed just after a push, where the skin may fold (a thin ear
@@ -69,17 +83,11 @@ class SkinGuard {
       known_distance_ = lower;
       return;
     }
-    // Only "p is outside by the margin" is needed, not p's distance: a ball of radius R >= margin with
-    // sd(q) + R > moved and no triangle in it proves it, as above. Twice the least such R leaves some
-    // room for the next points.
-    if (grid_ && known_distance_ > 0.0f) {
-      const float radius = 2.0f * std::max(margin_, moved - known_distance_);
-      if (clears(radius) && grid_->clear_within(p, radius)) {
-        known_point_ = p;
-        known_distance_ = radius;
-        return;
-      }
-    }
+    // Only "p is outside by the margin" is needed, not p's distance (clear_by_ball). Twice the least
+    // radius that can prove it leaves some room for the next points.
+    if (known_distance_ > 0.0f &&
+        clear_by_ball(p, 2.0f * std::max(margin_, moved - known_distance_), known_distance_, moved))
+      return;
     SurfacePoint closest;
     float distance = 0.0f;
     if (grid_) {

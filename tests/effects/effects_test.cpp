@@ -557,6 +557,38 @@ TEST_CASE("after the stack no strand point is inside the skin", "[effects]") {
   CHECK(inside_before_pushout > 100);
 }
 
+namespace {
+
+/// What the stack's skin pass does with growth's clearances against checking every point.
+struct SkinPassComparison {
+  StrandSet with_bounds;     // the stack applied with the clearances
+  size_t near_skin = 0;      // its points (roots aside) closer to the skin than `near` x the margin
+  float largest_difference = 0.0f;  // the largest distance between a point with and without them
+};
+
+/// Applies `stack` to `grown` with and without `clearance` and compares; every point with them is
+/// checked to be outside by the margin (to rounding).
+SkinPassComparison compare_skin_pass(const EffectStack &stack, const MeshQuery &query, const StrandSet &guides,
+                                     float margin, const StrandSet &grown, std::span<const float> clearance,
+                                     float near) {
+  SkinPassComparison r;
+  r.with_bounds = grown;
+  StrandSet without_bounds = grown;
+  stack.apply(query.mesh(), query, guides, margin, r.with_bounds, clearance);
+  stack.apply(query.mesh(), query, guides, margin, without_bounds);
+  for (size_t i = 0; i < r.with_bounds.strand_count(); ++i)
+    for (int64_t j = 1; j < r.with_bounds.points_in(i); ++j) {
+      const float d = query.signed_distance(r.with_bounds.points(i)[j]);
+      CHECK(d >= margin * (1.0f - 1e-3f));
+      r.near_skin += d < near * margin;
+      r.largest_difference =
+          std::max(r.largest_difference, (r.with_bounds.points(i)[j] - without_bounds.points(i)[j]).norm());
+    }
+  return r;
+}
+
+}  // namespace
+
 TEST_CASE("with growth's clearance the stack skips proven points and still ends out of the skin", "[effects]") {
   SphereScene s;
   InterpolationSettings settings;
@@ -571,22 +603,12 @@ TEST_CASE("with growth's clearance the stack skips proven points and still ends 
   effects[4].amplitude = 0.2f;  // wave
   effects[6].curl_radius = 0.1f;
   const EffectStack stack(effects, s.mesh, s.roots, s.guides, s.nearest);
-  StrandSet with_bounds = grown, without_bounds = grown;
-  stack.apply(s.mesh, s.query, s.guides.strands, settings.skin_margin, with_bounds, clearance);
-  stack.apply(s.mesh, s.query, s.guides.strands, settings.skin_margin, without_bounds);
-  size_t on_margin = 0;
-  float largest_difference = 0.0f;
-  for (size_t i = 0; i < with_bounds.strand_count(); ++i)
-    for (int64_t j = 1; j < with_bounds.points_in(i); ++j) {
-      const float d = s.query.signed_distance(with_bounds.points(i)[j]);
-      CHECK(d >= settings.skin_margin * (1.0f - 1e-3f));
-      on_margin += d < 1.5f * settings.skin_margin;
-      largest_difference =
-          std::max(largest_difference, (with_bounds.points(i)[j] - without_bounds.points(i)[j]).norm());
-    }
-  CHECK(on_margin > 100);
+  SkinPassComparison pass =
+      compare_skin_pass(stack, s.query, s.guides.strands, settings.skin_margin, grown, clearance, 1.5f);
+  StrandSet &with_bounds = pass.with_bounds;
+  CHECK(pass.near_skin > 100);
   // The bounds only spare queries: the same points are pushed, to the same places.
-  CHECK(largest_difference <= 1e-5f);
+  CHECK(pass.largest_difference <= 1e-5f);
 
   // One skin grid shared by growth and the stack, as the pipeline does, gives the same bits as each
   // building its own.
@@ -620,21 +642,10 @@ TEST_CASE("on strands combed down along the skin, the skin pass's proofs change 
   std::vector<float> clearance;
   interp::grow(binding, mesh, query, roots, guides.strands, options, grown, &clearance);
   const EffectStack stack(full_stack(1.0f), mesh, roots, guides, nearest);
-  StrandSet with_bounds = grown, without_bounds = grown;
-  stack.apply(mesh, query, guides.strands, settings.skin_margin, with_bounds, clearance);
-  stack.apply(mesh, query, guides.strands, settings.skin_margin, without_bounds);
-  size_t near_skin = 0;
-  float largest_difference = 0.0f;
-  for (size_t i = 0; i < with_bounds.strand_count(); ++i)
-    for (int64_t j = 1; j < with_bounds.points_in(i); ++j) {
-      const float d = query.signed_distance(with_bounds.points(i)[j]);
-      CHECK(d >= settings.skin_margin * (1.0f - 1e-3f));
-      near_skin += d < 2.0f * settings.skin_margin;
-      largest_difference =
-          std::max(largest_difference, (with_bounds.points(i)[j] - without_bounds.points(i)[j]).norm());
-    }
-  CHECK(near_skin > 3000);  // 6756 of 93000 points
-  CHECK(largest_difference <= 1e-5f);
+  const SkinPassComparison pass =
+      compare_skin_pass(stack, query, guides.strands, settings.skin_margin, grown, clearance, 2.0f);
+  CHECK(pass.near_skin > 3000);  // 6756 of 93000 points
+  CHECK(pass.largest_difference <= 1e-5f);
 }
 
 TEST_CASE("simplex noise is smooth, bounded and seeded", "[effects]") {

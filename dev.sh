@@ -17,8 +17,9 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-# The test suite loads written USD files with a reader nobody here wrote (tinyusdz, under Node).
-if [[ "$mode" == test ]] && ! command -v npm >/dev/null 2>&1; then missing+=(nodejs npm); fi
+# The test suite loads written USD files with a reader nobody here wrote (tinyusdz, kept in
+# tests/third_party, under Node).
+if [[ "$mode" == test ]] && ! command -v node >/dev/null 2>&1; then missing+=(nodejs); fi
 if ((${#missing[@]})); then
   if [[ $(id -u) -ne 0 ]]; then
     echo "Plume needs these Debian packages. Install them, then run this command again:" >&2
@@ -44,10 +45,5 @@ if [[ "$mode" == demo ]]; then
   echo "== done in ${seconds} s: out/sintel/hair.0001.usda .. hair.0048.usda ($(du -sh out/sintel | cut -f1) in all)," \
        "previews out/sintel/preview.*.png (every 6 frames)"
 else
-  if [[ ! -d build/node/node_modules/tinyusdz ]]; then
-    echo "== installing the tinyusdz USD reader (npm) into build/node"
-    mkdir -p build/node
-    npm install --silent --no-audit --no-fund --prefix build/node tinyusdz >/dev/null
-  fi
   ctest --test-dir build --output-on-failure -j"$jobs"
 fi

@@ -1,5 +1,5 @@
 // Loads a .usda with tinyusdz (a USD reader nobody on Plume wrote) and checks what it found.
-//   node load_usda.mjs NODE_MODULES FILE.usda [CURVES POINTS]
+//   node load_usda.mjs DIR FILE.usda [CURVES POINTS]   (DIR holds tinyusdz/tinyusdz.{js,wasm})
 // Exits non-zero when tinyusdz rejects the file (syntax, types, BasisCurves schema), when the
 // curves it parsed are inconsistent (counts vs points, widths, primvars), when the per-curve
 // `int[] primvars:groom_id` (hair group, as Unreal reads it) or `int64[] primvars:plume_id`
@@ -14,11 +14,11 @@ function fail(message) {
   process.exit(1);
 }
 
-const [nodeModules, file, expectedCurves, expectedPoints] = process.argv.slice(2);
-if (!nodeModules || !file) fail('usage: node load_usda.mjs NODE_MODULES FILE.usda [CURVES POINTS]');
-const packageDir = path.join(nodeModules, 'tinyusdz');
+const [packagesDir, file, expectedCurves, expectedPoints] = process.argv.slice(2);
+if (!packagesDir || !file) fail('usage: node load_usda.mjs DIR FILE.usda [CURVES POINTS]');
+const packageDir = path.join(packagesDir, 'tinyusdz');
 if (!fs.existsSync(path.join(packageDir, 'tinyusdz.wasm')))
-  fail(`tinyusdz is not installed in ${nodeModules} (npm install --prefix <dir> tinyusdz)`);
+  fail(`no tinyusdz.wasm in ${packageDir} (see tests/third_party/tinyusdz/README.md)`);
 
 // tinyusdz ships a browser build: make it take the web path under Node and hand it the wasm bytes.
 globalThis.window = globalThis;

@@ -1,6 +1,7 @@
 #include "groom/guides.h"
 
 #include "groom/error.h"
+#include "groom/limits.h"
 
 namespace plume {
 
@@ -10,6 +11,13 @@ Guides bind_guides(const MeshQuery &rest_query, StrandSet rest_strands, const st
     if (rest_strands.points_in(g) < 2)
       throw InputError(FileLoc{source}, "guide " + std::to_string(g) + ": expected at least 2 points, got " +
                                             std::to_string(rest_strands.points_in(g)));
+  for (size_t g = 0; g < rest_strands.strand_count(); ++g) {
+    const std::span<const Eigen::Vector3f> points = rest_strands.points(g);
+    for (size_t j = 0; j < points.size(); ++j)
+      if (!within_scene_bounds(points[j]))
+        throw InputError(FileLoc{source}, "guide " + std::to_string(g) + ", point " + std::to_string(j) + ": " +
+                                              out_of_bounds_message(points[j]));
+  }
   guides.roots.resize(rest_strands.strand_count());
   for (size_t g = 0; g < rest_strands.strand_count(); ++g)
     guides.roots[g] = rest_query.closest(rest_strands.points(g)[0]);

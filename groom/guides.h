@@ -18,7 +18,8 @@ struct Guides {
 };
 
 /// Binds each strand's first point to the closest surface point of the rest mesh.
-/// Throws InputError (naming `source`) if a strand has fewer than 2 points.
+/// Throws InputError (naming `source`, the guide and the point) if a strand has fewer than 2
+/// points or a point beyond max_coordinate (groom/limits.h).
 Guides bind_guides(const MeshQuery &rest_query, StrandSet rest_strands, const std::string &source);
 
 /// The guides as the skin carries them to a deformed pose, without dynamics: each guide keeps

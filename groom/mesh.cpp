@@ -1,10 +1,19 @@
 #include "groom/mesh.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "groom/error.h"
+#include "groom/limits.h"
 
 namespace plume {
+
+std::string out_of_bounds_message(const Eigen::Vector3f &p) {
+  char text[160];
+  std::snprintf(text, sizeof text, "expected coordinates within [-%g, %g], got (%g, %g, %g)", double(max_coordinate),
+                double(max_coordinate), double(p.x()), double(p.y()), double(p.z()));
+  return text;
+}
 
 void Mesh::compute_normals() {
   vertex_normals.assign(positions.size(), Eigen::Vector3f::Zero());
@@ -39,9 +48,13 @@ int Mesh::group_index(const std::string &name) const {
 
 void Mesh::validate(const std::string &source) const {
   if (triangles.empty()) throw InputError(FileLoc{source}, "mesh: expected at least one triangle, got none");
-  for (size_t v = 0; v < positions.size(); ++v)
+  for (size_t v = 0; v < positions.size(); ++v) {
     if (!positions[v].allFinite())
       throw InputError(FileLoc{source}, "mesh: vertex " + std::to_string(v + 1) + " is not finite");
+    if (!within_scene_bounds(positions[v]))
+      throw InputError(FileLoc{source}, "mesh: vertex " + std::to_string(v + 1) + ": " +
+                                            out_of_bounds_message(positions[v]));
+  }
   const int vertex_num = int(positions.size());
   bool any_area = false;
   for (size_t f = 0; f < triangles.size(); ++f) {

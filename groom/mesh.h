@@ -34,8 +34,8 @@ struct Mesh {
   Eigen::Vector3f face_normal(size_t triangle) const;  // unit; zero for a degenerate face
   /// Index of a group by name, or -1.
   int group_index(const std::string &name) const;
-  /// Throws InputError naming `source` when an index is out of range, a value is not finite,
-  /// or every triangle is degenerate. Degenerate triangles alone are allowed (they get no roots).
+  /// Throws InputError naming `source` when an index is out of range, a value is not finite or
+  /// beyond max_coordinate (groom/limits.h), or every triangle is degenerate. Degenerate triangles alone are allowed (they get no roots).
   void validate(const std::string &source) const;
 };
 

@@ -36,11 +36,21 @@ double masked_area(const Mesh &mesh, const std::vector<bool> &triangle_mask) {
   return total;
 }
 
-Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::vector<bool> &triangle_mask) {
+Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::vector<bool> &triangle_mask,
+                    const FileLoc &where) {
   Roots roots;
   if (count <= 0) return roots;
   const double total_area = masked_area(mesh, triangle_mask);
-  if (!(total_area > 0.0)) throw InputError("roots: the selected faces have no area to scatter roots on");
+  // The message names the groom's roots settings when the caller gives them.
+  auto fail = [&](const std::string &what) {
+    if (where.file.empty()) throw InputError("roots: " + what);
+    throw InputError(where, "roots: " + what);
+  };
+  if (!(total_area > 0.0)) fail("the selected faces (roots.groups, roots.near_guides) have no area to scatter roots on");
+  // A triangle too large for float arithmetic has an infinite area (the reader's coordinate bound
+  // keeps a loaded mesh clear of this); its normalised area would be NaN and no arrival time
+  // would ever be found.
+  if (!std::isfinite(total_area)) fail("the selected faces have an infinite total area (coordinates too large)");
 
   std::vector<size_t> faces;
   std::vector<double> areas;
@@ -57,8 +67,16 @@ Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::v
     return n;
   };
   // Smallest time t with at least `count` arrivals, by bisection (count_at is monotonic in t).
+  // The normalised areas sum to 1 and each triangle loses less than one arrival to rounding down,
+  // so count_at(t) > t - #faces and t = count + #faces always suffices: the doubling stops below
+  // twice that. Past it something is wrong with the areas; an error, never an endless loop.
   double lo = 0.0, hi = double(count) + 2.0;
-  while (count_at(hi) < count) hi *= 2.0;
+  const double hi_limit = 2.0 * (double(count) + double(faces.size()) + 2.0);
+  while (count_at(hi) < count) {
+    if (!(hi <= hi_limit))
+      fail("cannot place " + std::to_string(count) + " roots on the selected faces (their areas do not add up)");
+    hi *= 2.0;
+  }
   for (int iter = 0; iter < 100 && hi - lo > 1e-12 * hi; ++iter) {
     const double mid = 0.5 * (lo + hi);
     (count_at(mid) >= count ? hi : lo) = mid;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "groom/error.h"
 #include "groom/mesh.h"
 
 namespace plume {
@@ -19,7 +20,10 @@ struct Roots {
 /// root of a smaller one: root j of triangle f arrives at time (j + u) / area with u hashed
 /// from (seed, f, j), and the `count` earliest arrivals are kept. Its position in the triangle
 /// is hashed from the same numbers. Ids are (f << 24) | j. Roots are ordered by triangle.
-Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::vector<bool> &triangle_mask = {});
+/// Throws InputError at `where` (the groom's roots settings) when the selected triangles have no
+/// area or an infinite one; it always returns (the search for the arrival time is bounded).
+Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::vector<bool> &triangle_mask = {},
+                    const FileLoc &where = {});
 
 /// Triangles whose closest distance to any of `points` is at most `radius`.
 std::vector<bool> triangles_near(const Mesh &mesh, const std::vector<Eigen::Vector3f> &points, double radius);

@@ -3,6 +3,7 @@
 #include <array>
 #include <unordered_map>
 
+#include "groom/limits.h"
 #include "io/file_scan.h"
 
 namespace plume::io {
@@ -52,7 +53,11 @@ Mesh parse_obj(const std::string &path) {
     if (const size_t hash = rest.find('#'); hash != std::string_view::npos) rest = rest.substr(0, hash);
     const std::string_view keyword = LineCursor::take_token(rest);
     if (keyword == "v") {
-      mesh.positions.push_back(cursor.take_vec3(rest, "v"));
+      const std::string_view body = rest;
+      const Eigen::Vector3f p = cursor.take_vec3(rest, "v");
+      if (!within_scene_bounds(p))
+        cursor.fail(body, "v: vertex " + std::to_string(mesh.positions.size() + 1) + ": " + out_of_bounds_message(p));
+      mesh.positions.push_back(p);
     } else if (keyword == "vt") {
       Eigen::Vector2f uv(cursor.to_float(LineCursor::take_token(rest), "vt: u"), 0.0f);
       if (const std::string_view v = LineCursor::take_token(rest); !v.empty()) uv.y() = cursor.to_float(v, "vt: v");

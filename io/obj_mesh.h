@@ -13,7 +13,8 @@ namespace plume::io {
 /// Face groups: a face belongs to the last `usemtl` name seen if the file has any `usemtl`,
 /// else to the last `g` name (the first name on the line); faces before any name go to "default".
 /// UVs are kept only when every face has them. Calls mesh.validate(path).
-/// Throws InputError "file:line: ..." on malformed lines, out-of-range indices, NaN/Inf values.
+/// Throws InputError "file:line: ..." on malformed lines, out-of-range indices, NaN/Inf values and
+/// coordinates beyond max_coordinate (groom/limits.h).
 Mesh read_obj_mesh(const std::string &path);
 
 /// Reads one frame of an OBJ sequence of `rest`'s topology: same vertex count and same triangles

@@ -1,5 +1,6 @@
 #include "io/point_list.h"
 
+#include "groom/limits.h"
 #include "io/file_scan.h"
 #include "io/strand_file.h"
 
@@ -13,7 +14,11 @@ std::vector<Eigen::Vector3f> read_points(const std::string &path) {
   if (ext != ".txt") {
     const StrandSet strands = read_strands(path);
     std::vector<Eigen::Vector3f> roots(strands.strand_count());
-    for (size_t s = 0; s < roots.size(); ++s) roots[s] = strands.positions[strands.offsets[s]];
+    for (size_t s = 0; s < roots.size(); ++s) {
+      roots[s] = strands.positions[strands.offsets[s]];
+      if (!within_scene_bounds(roots[s]))
+        throw InputError(FileLoc{path}, "strand " + std::to_string(s) + ", point 0: " + out_of_bounds_message(roots[s]));
+    }
     return roots;
   }
   const std::string text = detail::read_file_bytes(path);
@@ -24,12 +29,14 @@ std::vector<Eigen::Vector3f> read_points(const std::string &path) {
     if (const size_t hash = rest.find('#'); hash != std::string_view::npos) rest = rest.substr(0, hash);
     std::string_view token = detail::LineCursor::take_token(rest);
     if (token.empty()) continue;
+    const std::string_view body = cursor.line();
     Eigen::Vector3f p;
     p.x() = cursor.to_float(token, "x");
     p.y() = cursor.to_float(detail::LineCursor::take_token(rest), "y");
     p.z() = cursor.to_float(detail::LineCursor::take_token(rest), "z");
     if (const std::string_view extra = detail::LineCursor::take_token(rest); !extra.empty())
       cursor.fail(extra, "expected 3 numbers (x y z) on the line, got more: " + detail::quoted(extra));
+    if (!within_scene_bounds(p)) cursor.fail(body, "point " + std::to_string(points.size()) + ": " + out_of_bounds_message(p));
     points.push_back(p);
   }
   return points;

@@ -90,7 +90,13 @@ TEST_CASE("a broken OBJ mesh is rejected with file:line:column and what was expe
       {"obj_face_two_corners.obj", Reader::Mesh, {":4", "f: expected at least 3 corners, got 2"}},
       {"obj_mesh_all_degenerate.obj", Reader::Mesh, {"every triangle is degenerate"}},
       {"obj_mesh_bad_number.obj", Reader::Mesh, {":2:5", "v: y: expected a number, got \"abc\""}},
+      // Finite floats whose edge cross product overflows: root scattering used to hang on them.
+      {"obj_mesh_huge.obj", Reader::Mesh, {":2:", "v: vertex 2: expected coordinates within [-1e+06, 1e+06], got (1e+20, 0, 0)"}},
   });
+  // A frame of an emitter sequence goes through the same reader.
+  const plume::Mesh rest = plume::io::read_obj_mesh(PLUME_TEST_DATA "/groom_file/head.obj");
+  CHECK_THROWS_WITH(plume::io::read_obj_pose(PLUME_TEST_DATA "/bad/obj_mesh_huge.obj", rest),
+                    Catch::Contains("obj_mesh_huge.obj:2:") && Catch::Contains("v: vertex 2: expected coordinates within"));
 }
 
 TEST_CASE("a broken .usda file is rejected with file:line:column and what was expected", "[io]") {
@@ -110,6 +116,7 @@ TEST_CASE("a broken root point list is rejected with file:line and what was expe
   check_bad_files({
       {"points_missing_z.txt", Reader::Points, {":3:", "z: expected a number, got the end of the line"}},
       {"points_nan.txt", Reader::Points, {":3:3", "y: expected a finite number, got \"nan\""}},
+      {"points_huge.txt", Reader::Points, {":2:1", "point 1: expected coordinates within [-1e+06, 1e+06], got (4, 5e+30, 6)"}},
   });
 }
 

@@ -29,6 +29,8 @@ struct PartingSettings {
   ZoneSource zone_source = ZoneSource::none;
   /// For face_groups: which groups are zones (empty: every group is its own zone).
   std::vector<std::string> zone_groups;
+  /// Where partings.zones.groups is written, for messages (empty when not given).
+  FileLoc zone_groups_loc;
   /// For zone_map: a text file with one integer zone id per triangle (path resolved against the groom).
   std::string zone_map_path;
   std::vector<PartingLine> lines;

@@ -121,7 +121,8 @@ void PartingField::Impl::build_zones(const MeshTopology &topology, const MeshQue
         if (g < 0) {
           std::string known;
           for (const std::string &n : mesh.group_names) known += (known.empty() ? "" : ", ") + n;
-          throw InputError(settings.loc, "partings.zone_groups: the mesh has no face group '" + name +
+          throw InputError(settings.zone_groups_loc.file.empty() ? settings.loc : settings.zone_groups_loc,
+                           "partings.zones.groups: the mesh has no face group '" + name +
                                              "' (groups: " + known + ")");
         }
         zone_of_group[size_t(g)] = int(base_names.size());

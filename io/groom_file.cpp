@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "groom/limits.h"
 #include "io/yaml_fields.h"
 
 namespace plume::io {
@@ -25,6 +25,22 @@ constexpr int64_t max_count = 100'000'000;
 /// Seeds go through a double while parsed, so they are limited to the integers a double holds exactly.
 constexpr int64_t max_seed = (int64_t(1) << 53);
 constexpr int max_points_per_strand = 65536;
+/// Every number a groom gives lies in [-max_number, max_number] unless its key has a tighter range:
+/// lengths are bounded like coordinates (groom/limits.h), so sums and squares of them stay finite.
+constexpr float max_number = max_coordinate;
+/// Turn counts (clump twist, curl turns per unit) and noise frequencies: 2 pi x 1000 turns ~ 6283 rad
+/// stays in the range where interp/lanes.h's sin_cos4 is accurate (|x| < 1e4), and a frequency of
+/// 1000 times a coordinate of 1e6 stays below the 2^31 of the noise lattice's integer cells.
+constexpr float max_turns = 1000.0f;
+constexpr float max_frequency = 1000.0f;
+/// Guide weights ~ 1 / distance^falloff in floats: distances are below ~3.5e6 (two points within the
+/// coordinate bound), and 3.5e6^4 ~ 1.5e26 is finite where a larger power would overflow toward 1e38.
+constexpr float max_falloff = 4.0f;
+/// Uniform scale of the emitter's rigid keys: within [1/100, 100] a posed coordinate stays below
+/// ~3.5e8 (squares ~1e17) and a valid rest triangle keeps a non-zero float area.
+constexpr float min_key_scale = 0.01f, max_key_scale = 100.0f;
+/// interp/interpolate.h's max_influences: growth keeps the guides of a root in fixed slots.
+constexpr int max_guides_per_root = 16;
 
 std::string format_number(double v) {
   char buf[32];
@@ -96,26 +112,60 @@ class GroomReader {
 
  private:
   // --- numbers with ranges; each marks the key as known and reports the key path on failure ---
-  float real(YamlMap &m, const std::string &key, float fallback) {
+  /// A number in [-hi, hi].
+  float real(YamlMap &m, const std::string &key, float fallback, float hi = max_number) {
     const double v = m.number(key, fallback);
-    if (std::abs(v) > FLT_MAX) fail_expected(file_, m.node(key), m.key_path(key), "a finite number");
+    if (!(std::abs(v) <= hi))
+      fail_expected(file_, m.node(key), m.key_path(key),
+                    "a number in [" + format_number(-hi) + ", " + format_number(hi) + "]");
     return float(v);
   }
-  float at_least(YamlMap &m, const std::string &key, float fallback, float lo) {
-    const float v = real(m, key, fallback);
-    if (!(v >= lo)) fail_expected(file_, m.node(key), m.key_path(key), "a number >= " + format_number(lo));
-    return v;
+  /// A number in [lo, hi]; below lo the message gives the lower bound alone, as most keys have only
+  /// the general upper bound.
+  float at_least(YamlMap &m, const std::string &key, float fallback, float lo, float hi = max_number) {
+    return float(at_least_double(m, key, fallback, lo, hi));
   }
   /// at_least() for the settings held in doubles, kept at full precision.
-  double at_least_double(YamlMap &m, const std::string &key, double fallback, double lo) {
+  double at_least_double(YamlMap &m, const std::string &key, double fallback, double lo, double hi = max_number) {
     const double v = m.number(key, fallback);
     if (!(v >= lo)) fail_expected(file_, m.node(key), m.key_path(key), "a number >= " + format_number(lo));
+    if (!(v <= hi))
+      fail_expected(file_, m.node(key), m.key_path(key),
+                    "a number in [" + format_number(lo) + ", " + format_number(hi) + "]");
     return v;
   }
-  float above(YamlMap &m, const std::string &key, float fallback, float lo) {
-    const float v = real(m, key, fallback);
+  /// A number in (lo, hi].
+  float above(YamlMap &m, const std::string &key, float fallback, float lo, float hi = max_number) {
+    const double v = m.number(key, fallback);
     if (!(v > lo)) fail_expected(file_, m.node(key), m.key_path(key), "a number > " + format_number(lo));
+    if (!(v <= hi))
+      fail_expected(file_, m.node(key), m.key_path(key),
+                    "a number in (" + format_number(lo) + ", " + format_number(hi) + "]");
+    return float(v);
+  }
+  /// A vector whose components are in [-max_number, max_number] (a direction or a rate).
+  Eigen::Vector3f vector(YamlMap &m, const std::string &key, const Eigen::Vector3f &fallback) {
+    const Eigen::Vector3f v = m.vec3(key, fallback);
+    if (m.given(key)) check_components(m.node(key), m.key_path(key), "a number");
     return v;
+  }
+  /// A scene position: components within max_coordinate (groom/limits.h).
+  Eigen::Vector3f position(YamlMap &m, const std::string &key, const Eigen::Vector3f &fallback) {
+    const Eigen::Vector3f v = m.vec3(key, fallback);
+    if (m.given(key)) check_components(m.node(key), m.key_path(key), "a coordinate");
+    return v;
+  }
+  Eigen::Vector3f position(const YAML::Node &node, const std::string &path) {
+    const Eigen::Vector3f v = node_vec3(node, path, file_);
+    check_components(node, path, "a coordinate");
+    return v;
+  }
+  /// `node` is a list of 3 finite numbers: each must lie in [-max_number, max_number].
+  void check_components(const YAML::Node &node, const std::string &path, const std::string &what) {
+    for (int i = 0; i < 3; ++i)
+      if (!(std::abs(node_number(node[i], indexed(path, size_t(i)), file_)) <= max_number))
+        fail_expected(file_, node[i], indexed(path, size_t(i)),
+                      what + " in [" + format_number(-max_number) + ", " + format_number(max_number) + "]");
   }
   float between(YamlMap &m, const std::string &key, float fallback, float lo, float hi) {
     return float(m.number_in(key, fallback, lo, hi));
@@ -205,7 +255,7 @@ Ramp GroomReader::ramp(const YAML::Node &node, const std::string &path, float va
     }
     const double v = node_number(point[1], indexed(point_path, 1), file_);
     if (v < value_lo || v > value_hi) {
-      const std::string range = value_hi == FLT_MAX ? "a value >= " + format_number(value_lo)
+      const std::string range = v < value_lo && value_hi == max_number ? "a value >= " + format_number(value_lo)
                                                     : "a value in [" + format_number(value_lo) + ", " +
                                                           format_number(value_hi) + "]";
       fail_expected(file_, point[1], indexed(point_path, 1), range);
@@ -239,19 +289,22 @@ void GroomReader::read_emitter(YamlMap &root, GroomDesc &groom) {
       a.sequence_pattern = absolute(written);
     } else {
       a.kind = EmitterAnimation::Kind::rigid;
-      a.pivot = anim.vec3("pivot", a.pivot);
+      a.pivot = position(anim, "pivot", a.pivot);
       const std::vector<YAML::Node> keys = anim.sequence("keys");
       if (keys.empty()) fail_expected(file_, anim.node("keys"), anim.key_path("keys"), "a list of at least one key");
       for (size_t i = 0; i < keys.size(); ++i) {
         YamlMap key(keys[i], indexed(anim.key_path("keys"), i), file_);
         RigidKey k;
         k.frame = key.number("frame");
+        if (!(std::abs(k.frame) <= max_number))
+          fail_expected(file_, key.node("frame"), key.key_path("frame"),
+                        "a frame in [" + format_number(-max_number) + ", " + format_number(max_number) + "]");
         if (!a.keys.empty() && !(k.frame > a.keys.back().frame))
           fail_expected(file_, key.node("frame"), key.key_path("frame"),
                         "a frame after " + format_number(a.keys.back().frame) + " (keys sorted by frame)");
-        k.translate = key.vec3("translate", k.translate);
-        k.rotate_degrees = key.vec3("rotate", k.rotate_degrees);
-        k.scale = above(key, "scale", k.scale, 0.0f);
+        k.translate = position(key, "translate", k.translate);
+        k.rotate_degrees = vector(key, "rotate", k.rotate_degrees);
+        k.scale = between(key, "scale", k.scale, min_key_scale, max_key_scale);
         key.finish();
         a.keys.push_back(k);
       }
@@ -302,9 +355,9 @@ void GroomReader::read_interpolation(YamlMap &root, GroomDesc &groom) {
   s.method = method == "streamline" ? InterpolationSettings::Method::streamline
              : method == "fur"      ? InterpolationSettings::Method::fur
                                     : InterpolationSettings::Method::linear;
-  s.k = int(interp.integer("k", s.k, 1, 64));
+  s.k = int(interp.integer("k", s.k, 1, max_guides_per_root));
   s.radius = at_least_double(interp, "radius", s.radius, 0.0);
-  s.falloff = above(interp, "falloff", s.falloff, 0.0f);
+  s.falloff = above(interp, "falloff", s.falloff, 0.0f, max_falloff);
   s.skin_margin = at_least(interp, "skin_margin", s.skin_margin, 0.0f);
   s.lookahead_segments = int(interp.integer("lookahead", s.lookahead_segments, 1, max_points_per_strand - 1));
   interp.finish();
@@ -333,7 +386,7 @@ void GroomReader::read_partings(YamlMap &root, GroomDesc &groom) {
                            " points [x, y, z]" + (l.closed ? " (a closed line)" : "") + ", got " +
                            std::to_string(points.size()));
     for (size_t j = 0; j < points.size(); ++j)
-      l.points.push_back(node_vec3(points[j], indexed(line.key_path("points"), j), file_));
+      l.points.push_back(position(points[j], indexed(line.key_path("points"), j)));
     l.gamma = at_least(line, "gamma", l.gamma, 1.0f);
     l.hard = line.boolean("hard", l.hard);
     line.finish();
@@ -348,6 +401,7 @@ void GroomReader::read_partings(YamlMap &root, GroomDesc &groom) {
     if (from == "groups") {
       p.zone_source = PartingSettings::ZoneSource::face_groups;
       p.zone_groups = zones.string_list("groups");
+      if (zones.given("groups")) p.zone_groups_loc = zones.loc("groups");
     } else if (from == "map") {
       p.zone_source = PartingSettings::ZoneSource::zone_map;
       if (!zones.given("map"))
@@ -418,7 +472,7 @@ EffectDesc GroomReader::read_effect(const YAML::Node &node, const std::string &p
     const std::string centers = m.choice("centers", "poisson", {"poisson", "per_guide"});
     e.clump_centers = centers == "poisson" ? EffectDesc::ClumpCenters::poisson : EffectDesc::ClumpCenters::per_guide;
     e.clump_radius = above(m, "radius", e.clump_radius, 0.0f);
-    e.clump_twist = real(m, "twist", e.clump_twist);
+    e.clump_twist = real(m, "twist", e.clump_twist, max_turns);
     e.stray_fraction = between(m, "strays", e.stray_fraction, 0.0f, 1.0f);
   } else if (type == "tension") {
     e.type = EffectType::tension;
@@ -431,8 +485,8 @@ EffectDesc GroomReader::read_effect(const YAML::Node &node, const std::string &p
     if (m.given("cut")) {
       YamlMap cut = m.map("cut");
       e.cut_plane = true;
-      e.cut_point = cut.vec3("point", e.cut_point);
-      const Eigen::Vector3f normal = cut.vec3("normal", e.cut_normal);
+      e.cut_point = position(cut, "point", e.cut_point);
+      const Eigen::Vector3f normal = vector(cut, "normal", e.cut_normal);
       if (!(normal.norm() > 0.0f)) fail_expected(file_, cut.node("normal"), cut.key_path("normal"), "a non-zero vector");
       e.cut_normal = normal.normalized();
       cut.finish();
@@ -440,13 +494,13 @@ EffectDesc GroomReader::read_effect(const YAML::Node &node, const std::string &p
     e.max_length = at_least(m, "max_length", e.max_length, 0.0f);
   } else if (type == "wave" || type == "frizz") {
     e.type = type == "wave" ? EffectType::wave : EffectType::frizz;
-    e.frequency = above(m, "frequency", e.frequency, 0.0f);
+    e.frequency = above(m, "frequency", e.frequency, 0.0f, max_frequency);
     e.amplitude = at_least(m, "amplitude", e.amplitude, 0.0f);
     e.fraction = between(m, "fraction", e.fraction, 0.0f, 1.0f);
   } else {
     e.type = EffectType::curl;
     e.curl_radius = at_least(m, "radius", e.curl_radius, 0.0f);
-    e.turns_per_unit = at_least(m, "turns_per_unit", e.turns_per_unit, 0.0f);
+    e.turns_per_unit = at_least(m, "turns_per_unit", e.turns_per_unit, 0.0f, max_turns);
     e.fraction = between(m, "fraction", e.fraction, 0.0f, 1.0f);
   }
   m.finish();
@@ -462,7 +516,7 @@ CollisionShape GroomReader::read_shape(const YAML::Node &node, const std::string
   if (m.given("sphere")) {
     YamlMap sphere = m.map("sphere");
     s.kind = CollisionShape::Kind::sphere;
-    s.a = sphere.vec3("center", s.a);
+    s.a = position(sphere, "center", s.a);
     s.b = s.a;
     s.radius = above(sphere, "radius", s.radius, 0.0f);
     sphere.finish();
@@ -471,8 +525,8 @@ CollisionShape GroomReader::read_shape(const YAML::Node &node, const std::string
     s.kind = CollisionShape::Kind::capsule;
     if (!capsule.given("a") || !capsule.given("b"))
       throw InputError(capsule.loc(), capsule.key_path(capsule.given("a") ? "b" : "a") + ": missing required key (a point [x, y, z])");
-    s.a = capsule.vec3("a", s.a);
-    s.b = capsule.vec3("b", s.b);
+    s.a = position(capsule, "a", s.a);
+    s.b = position(capsule, "b", s.b);
     s.radius = above(capsule, "radius", s.radius, 0.0f);
     capsule.finish();
   }
@@ -491,20 +545,20 @@ void GroomReader::read_dynamics(YamlMap &root, GroomDesc &groom) {
   d.substeps = int(dyn.integer("substeps", d.substeps, 1, 1000));
   d.fps = above(dyn, "fps", d.fps, 0.0f);
   d.preroll_frames = int(dyn.integer("preroll", d.preroll_frames, 0, 100000));
-  d.gravity = dyn.vec3("gravity", d.gravity);
+  d.gravity = vector(dyn, "gravity", d.gravity);
   d.compensate_gravity = dyn.boolean("compensate_gravity", d.compensate_gravity);
 
   if (dyn.given("stiffness")) {
     const YAML::Node node = dyn.node("stiffness");
     const std::string path = dyn.key_path("stiffness");
     if (node.IsSequence()) {
-      d.stiffness = ramp(node, path, 0.0f, FLT_MAX);
+      d.stiffness = ramp(node, path, 0.0f, max_number);
     } else {
       YamlMap stiffness(node, path, file_);
       if (stiffness.given("ramp")) {
         forbid(stiffness, "root", "with stiffness.ramp");
         forbid(stiffness, "tip", "with stiffness.ramp");
-        d.stiffness = ramp(stiffness.node("ramp"), stiffness.key_path("ramp"), 0.0f, FLT_MAX);
+        d.stiffness = ramp(stiffness.node("ramp"), stiffness.key_path("ramp"), 0.0f, max_number);
       } else {
         const float at_root = at_least(stiffness, "root", d.stiffness.at(0.0f), 0.0f);
         const float at_tip = at_least(stiffness, "tip", d.stiffness.at(1.0f), 0.0f);
@@ -519,7 +573,7 @@ void GroomReader::read_dynamics(YamlMap &root, GroomDesc &groom) {
   d.mass_per_unit = above(dyn, "mass", d.mass_per_unit, 0.0f);
 
   YamlMap wind = dyn.map("wind");
-  d.wind = wind.vec3("vector", d.wind);
+  d.wind = vector(wind, "vector", d.wind);
   d.wind_gust = at_least(wind, "gust", d.wind_gust, 0.0f);
   d.wind_gust_frequency = at_least(wind, "gust_frequency", d.wind_gust_frequency, 0.0f);
   wind.finish();

@@ -56,7 +56,9 @@ void fail_expected(const std::string &file, const YAML::Node &node, const std::s
 double node_number(const YAML::Node &node, const std::string &path, const std::string &file) {
   const std::optional<double> v = as_number(node);
   if (!v) fail_expected(file, node, path, "a number");
-  if (!std::isfinite(*v)) fail_expected(file, node, path, "a finite number");
+  // Every number ends up in a 32-bit float: one beyond its range would become inf there.
+  if (!std::isfinite(*v) || std::abs(*v) > double(std::numeric_limits<float>::max()))
+    fail_expected(file, node, path, "a finite number");
   return *v;
 }
 
@@ -66,8 +68,6 @@ Eigen::Vector3f node_vec3(const YAML::Node &node, const std::string &path, const
   for (int i = 0; i < 3; ++i) {
     const std::string item = path + "[" + std::to_string(i) + "]";
     v[i] = float(node_number(node[i], item, file));
-    // A finite double can still overflow the float it is stored in.
-    if (!std::isfinite(v[i])) fail_expected(file, node[i], item, "a finite number");
   }
   return v;
 }

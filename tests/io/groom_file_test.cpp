@@ -434,7 +434,7 @@ TEST_CASE("groom file rules between keys are errors with key paths", "[io]") {
       {"roots: {count: 10}\nstrands: {width: {root: -0.1}}\n", "strands.width.root", "expected a number >= 0"},
       {"roots: {count: 10}\nstrands: {points: 65537}\n", "strands.points", "expected a whole number in [2, 65536]"},
       {"roots: {count: 10}\ninterpolation: {method: nearest}\n", "interpolation.method", "expected one of streamline, fur, linear"},
-      {"roots: {count: 10}\ninterpolation: {k: 65}\n", "interpolation.k", "expected a whole number in [1, 64]"},
+      {"roots: {count: 10}\ninterpolation: {k: 17}\n", "interpolation.k", "expected a whole number in [1, 16]"},
       {"roots: {count: 10}\ninterpolation: {falloff: 0}\n", "interpolation.falloff", "expected a number > 0"},
       {"roots: {count: 10}\npartings: {lines: [{points: [[0, 0, 0], [1, 0, 0]], gamma: 0.5}]}\n",
        "partings.lines[0].gamma", "expected a number >= 1"},
@@ -484,6 +484,70 @@ TEST_CASE("groom file rules between keys are errors with key paths", "[io]") {
   }
 }
 
+TEST_CASE("numbers beyond their documented bounds are errors naming the file, line and key", "[io]") {
+  // Each value is a finite 32-bit float that growth used to turn into inf or NaN points (an
+  // internal error), or a number too large for a float that was accepted.
+  TempGroom t;
+  struct Case {
+    std::string body;
+    std::string key_path;
+    std::string expected;
+  };
+  const std::string r = "roots: {count: 10}\n";
+  const std::vector<Case> cases{
+      {r + "interpolation: {method: fur, falloff: 1e12}\n", "interpolation.falloff", "expected a number in (0, 4], got \"1e12\""},
+      {r + "interpolation: {skin_margin: 1e30}\n", "interpolation.skin_margin", "expected a number in [0, 1e+06]"},
+      {r + "interpolation: {radius: 1e39}\n", "interpolation.radius", "expected a finite number, got \"1e39\""},
+      {r + "interpolation: {radius: 1e7}\n", "interpolation.radius", "expected a number in [0, 1e+06]"},
+      {"roots: {count: 10, near_guides: 1e39}\n", "roots.near_guides", "expected a finite number, got \"1e39\""},
+      {"roots: {count: 10, near_guides: 1e7}\n", "roots.near_guides", "expected a number in [0, 1e+06]"},
+      {r + "strands: {width: {tip: 1e20}}\n", "strands.width.tip", "expected a number in [0, 1e+06]"},
+      {r + "effects: [{type: wave, frequency: 4, amplitude: 1e20}]\n", "effects[0].amplitude", "expected a number in [0, 1e+06]"},
+      {r + "effects: [{type: frizz, frequency: 40, amplitude: 1e20}]\n", "effects[0].amplitude", "expected a number in [0, 1e+06]"},
+      {r + "effects: [{type: frizz, frequency: 1e5}]\n", "effects[0].frequency", "expected a number in (0, 1000]"},
+      {r + "effects: [{type: clump, centers: per_guide, twist: 1e12}]\n", "effects[0].twist", "expected a number in [-1000, 1000]"},
+      {r + "effects: [{type: clump, radius: 1e20}]\n", "effects[0].radius", "expected a number in (0, 1e+06]"},
+      {r + "effects: [{type: curl, radius: 1e20, turns_per_unit: 1}]\n", "effects[0].radius", "expected a number in [0, 1e+06]"},
+      {r + "effects: [{type: curl, radius: 0.1, turns_per_unit: 1e12}]\n", "effects[0].turns_per_unit", "expected a number in [0, 1000]"},
+      {r + "effects: [{type: length, max_length: 1e30}]\n", "effects[0].max_length", "expected a number in [0, 1e+06]"},
+      {r + "effects: [{type: length, cut: {point: [0, 1e20, 0]}}]\n", "effects[0].cut.point[1]", "expected a coordinate in [-1e+06, 1e+06]"},
+      {r + "effects: [{type: length, cut: {normal: [0, 1e30, 0]}}]\n", "effects[0].cut.normal[1]", "expected a number in [-1e+06, 1e+06]"},
+      {r + "partings: {lines: [{points: [[0, 0, 0], [1e30, 0, 0]]}]}\n", "partings.lines[0].points[1][0]",
+       "expected a coordinate in [-1e+06, 1e+06]"},
+      {r + "dynamics: {shapes: [{sphere: {center: [0, 0, 1e20]}}]}\n", "dynamics.shapes[0].sphere.center[2]", "expected a coordinate"},
+      {r + "dynamics: {shapes: [{capsule: {a: [0, 0, 0], b: [0, 0, 1e20]}}]}\n", "dynamics.shapes[0].capsule.b[2]", "expected a coordinate"},
+      {r + "dynamics: {gravity: [0, -1e30, 0]}\n", "dynamics.gravity[1]", "expected a number in [-1e+06, 1e+06]"},
+      {r + "dynamics: {damping: 1e30}\n", "dynamics.damping", "expected a number in [0, 1e+06]"},
+      {r + "dynamics: {stiffness: [[0, 1e30]]}\n", "dynamics.stiffness[0][1]", "expected a value in [0, 1e+06]"},
+      {r + "output: {frames: 1}\neffects: [{type: tension, ramp: [[1e39, 1]]}]\n", "effects[0].ramp[0][0]", "expected a finite number"},
+  };
+  for (const Case &c : cases) {
+    const std::string path = t.write(c.body);
+    const std::string message = error_of(path);
+    INFO(c.body << " -> " << message);
+    CHECK(std::regex_search(message, std::regex(R"(^[^:]+\.groom\.yaml:\d+:\d+: )")));
+    CHECK(message.find(": " + c.key_path + ": ") != std::string::npos);
+    CHECK(message.find(c.expected) != std::string::npos);
+  }
+  // The bounds themselves are accepted.
+  const GroomDesc g = read_groom_file(t.write(
+      "roots: {count: 10, near_guides: 1e6}\n"
+      "interpolation: {method: fur, k: 16, falloff: 4, radius: 1e6, skin_margin: 1e6}\n"
+      "effects: [{type: clump, twist: -1000, radius: 1e6}, {type: curl, radius: 1e6, turns_per_unit: 1000},\n"
+      "          {type: wave, frequency: 1000, amplitude: 1e6}]\n"));
+  CHECK(g.interpolation.k == 16);
+  CHECK(g.interpolation.falloff == 4.0f);
+  CHECK(g.effects[0].clump_twist == -1000.0f);
+  CHECK(g.effects[1].turns_per_unit == 1000.0f);
+}
+
+TEST_CASE("a bad zone group is reported under its real key, partings.zones.groups", "[io]") {
+  TempGroom t;
+  const GroomDesc g = read_groom_file(t.write("roots: {count: 10}\npartings:\n  zones: {from: groups, groups: [nope]}\n"));
+  CHECK(g.partings.zone_groups_loc.line == 6);
+  CHECK(g.partings.zone_groups_loc.file == t.folder().string() + "/test.groom.yaml");
+}
+
 TEST_CASE("groom file animation rules", "[io]") {
   TempGroom t;
   const std::string mesh = (fixtures / "head.obj").string();
@@ -502,7 +566,16 @@ TEST_CASE("groom file animation rules", "[io]") {
       {"{mesh: " + mesh + ", animation: {keys: [{translate: [0, 0, 0]}]}}", "emitter.animation.keys[0].frame", "missing required key"},
       {"{mesh: " + mesh + ", animation: {keys: [{frame: 5}, {frame: 5}]}}", "emitter.animation.keys[1].frame",
        "expected a frame after 5 (keys sorted by frame)"},
-      {"{mesh: " + mesh + ", animation: {keys: [{frame: 1, scale: 0}]}}", "emitter.animation.keys[0].scale", "expected a number > 0"},
+      {"{mesh: " + mesh + ", animation: {keys: [{frame: 1, scale: 0}]}}", "emitter.animation.keys[0].scale", "expected a number in [0.01, 100]"},
+      {"{mesh: " + mesh + ", animation: {keys: [{frame: 1, scale: 1e-30}]}}", "emitter.animation.keys[0].scale",
+       "expected a number in [0.01, 100], got \"1e-30\""},
+      {"{mesh: " + mesh + ", animation: {keys: [{frame: 1, scale: 1e30}]}}", "emitter.animation.keys[0].scale", "expected a number in [0.01, 100]"},
+      {"{mesh: " + mesh + ", animation: {keys: [{frame: 1, translate: [1e30, 0, 0]}]}}",
+       "emitter.animation.keys[0].translate[0]", "expected a coordinate in [-1e+06, 1e+06], got \"1e30\""},
+      {"{mesh: " + mesh + ", animation: {keys: [{frame: 1}], pivot: [0, 2e6, 0]}}", "emitter.animation.pivot[1]",
+       "expected a coordinate in [-1e+06, 1e+06]"},
+      {"{mesh: " + mesh + ", animation: {keys: [{frame: 1, rotate: [0, 0, 1e20]}]}}", "emitter.animation.keys[0].rotate[2]",
+       "expected a number in [-1e+06, 1e+06]"},
       {"{mesh: " + mesh + ", animation: {keys: [{frame: 1, rotation: [0, 0, 0]}]}}", "emitter.animation.keys[0].rotation", "unknown key"},
       {"{mesh: " + (fixtures / "guides.hair").string() + "}", "emitter.mesh", "expected a file ending in .obj"},
       {"{mesh: " + (fixtures / "nowhere.obj").string() + "}", "emitter.mesh", "does not exist"},

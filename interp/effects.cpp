@@ -104,7 +104,7 @@ float normal_from_hash(uint64_t h) {
   return std::sqrt(-2.0f * log4(Float4{} + u1)[0]) * cosine;
 }
 
-/// Reads an emitter vertex map: one finite number per line ('#' starts a comment, blank lines are
+/// Reads an emitter vertex map: one number in [0, 1] per line ('#' starts a comment, blank lines are
 /// skipped), exactly `vertex_count` numbers.
 std::vector<float> read_vertex_map(const std::string &path, size_t vertex_count, const FileLoc &effect_loc) {
   std::ifstream in(path);
@@ -131,6 +131,9 @@ std::vector<float> read_vertex_map(const std::string &path, size_t vertex_count,
     }
     if (used != token.size()) throw InputError(loc, "expected one number per line, got \"" + token + "\"");
     if (!std::isfinite(v)) throw InputError(loc, "expected a finite number, got \"" + token + "\"");
+    // A scale of the effect's strength, like amount and ramp: outside [0, 1] the strength could
+    // turn a bounded twist or amplitude into angles and displacements beyond float arithmetic.
+    if (!(v >= 0.0f && v <= 1.0f)) throw InputError(loc, "expected a number in [0, 1], got \"" + token + "\"");
     values.push_back(v);
   }
   if (values.size() != vertex_count)
@@ -558,11 +561,23 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t 
   const std::span<const Eigen::Vector3f> p = scratch.points;
   const float phase0 = kTwoPi * hash_to_unit(hash_combine(hash_combine(d.seed, kSaltPhase), id));
   // The helix angles depend on arc length only: their sines and cosines four at a time up front.
+  // Past 1000 turns along the strand the angle would leave the range where sin_cos4 is accurate
+  // (|x| < 1e4) and, far beyond, overflow its quadrant integer: such a strand takes each point's
+  // turn count modulo one (the same helix). Every other strand keeps the direct product's bits.
+  const bool wrap_turns = d.turns_per_unit * scratch.cum.back() > 1000.0f;
   scratch.sines.resize(size_t(n + 3));
   scratch.cosines.resize(size_t(n + 3));
   for (int64_t j = 0; j < n; j += 4) {
     Float4 phi, sine, cosine;
-    for (int64_t l = 0; l < 4; ++l) phi[l] = phase0 + kTwoPi * d.turns_per_unit * scratch.cum[size_t(std::min(j + l, n - 1))];
+    for (int64_t l = 0; l < 4; ++l) {
+      const float s_j = scratch.cum[size_t(std::min(j + l, n - 1))];
+      if (wrap_turns) {
+        const float turns = d.turns_per_unit * s_j;
+        phi[l] = phase0 + kTwoPi * (turns - std::floor(turns));
+      } else {
+        phi[l] = phase0 + kTwoPi * d.turns_per_unit * s_j;
+      }
+    }
     sin_cos4(phi, sine, cosine);
     for (int64_t l = 0; l < 4; ++l) {
       scratch.sines[size_t(j + l)] = sine[l];

@@ -537,6 +537,33 @@ TEST_CASE("a bad vertex map is an input error naming the file and line", "[effec
   CHECK_THROWS_AS(EffectStack({curl}, s.mesh, s.roots, s.guides, s.nearest), InputError);
 }
 
+TEST_CASE("a vertex map value outside [0, 1] is an input error naming the file and line", "[effects]") {
+  // A value of 1e30 scaled a clump's twist and a curl's radius into non-finite points.
+  const PlaneScene s;
+  EffectDesc curl = effect(EffectType::curl, 1.0f);
+  curl.curl_radius = 0.01f;
+  for (const std::string value : {"1e30", "-0.5", "1.01"}) {
+    std::string text;
+    for (size_t v = 0; v < s.mesh.vertex_count(); ++v) text += v == 2 ? value + "\n" : "1\n";
+    curl.vertex_map_path = temp_file("range.txt", text).string();
+    CHECK_THROWS_WITH(EffectStack({curl}, s.mesh, s.roots, s.guides, s.nearest),
+                      Catch::Contains(curl.vertex_map_path + ":3:1") &&
+                          Catch::Contains("expected a number in [0, 1], got \"" + value + "\""));
+  }
+}
+
+TEST_CASE("a curl of 1000 turns per unit on long strands gives finite points", "[effects]") {
+  // Beyond about 1600 turns the helix angle left sin_cos4's accurate range, and far beyond it the
+  // quadrant integer overflowed: the turn count is taken modulo one there.
+  PlaneScene s;
+  for (Eigen::Vector3f &p : s.strands.positions) p.y() *= 2e6f;  // strands ~1e6 units long: 1e9 turns
+  EffectDesc curl = effect(EffectType::curl, 1.0f);
+  curl.curl_radius = 0.1f;
+  curl.turns_per_unit = 1000.0f;
+  const StrandSet out = run({curl}, s);
+  for (const Eigen::Vector3f &p : out.positions) REQUIRE(p.allFinite());
+}
+
 TEST_CASE("after the stack no strand point is inside the skin", "[effects]") {
   SphereScene s;
   // Strands lying close to the scalp (strong bend), then effects that throw them into it.

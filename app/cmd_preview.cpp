@@ -31,7 +31,7 @@ void run_preview(const PreviewArgs &args) {
   options.guides_cache = args.guides_cache;
   options.simulation_start = std::min(groom_first_frame(groom), args.frame);
   Pipeline pipeline(groom, options);
-  pipeline.check_cache_has({args.frame});
+  pipeline.check_cache_has(single);
   const FrameResult result = pipeline.produce(args.frame);
   PreviewStyle style;
   style.size = args.size;
@@ -46,7 +46,7 @@ void add_preview_command(CLI::App &app, int &r_exit_code) {
   auto args = std::make_shared<PreviewArgs>();
   CLI::App *cmd = app.add_subcommand("preview", "Render a preview PNG of a groom at one frame.");
   cmd->add_option("groom", args->groom, "Groom file (.yaml)")->required();
-  cmd->add_option("--frame", args->frame, "Frame to render (default 1)");
+  cmd->add_option("--frame", args->frame, "Frame to render (default 1)")->check(CLI::Range(-kMaxFrame, kMaxFrame));
   cmd->add_option("--out", args->out, "Output PNG (a #### field is replaced by the frame)")->required();
   cmd->add_option("--size", args->size, "Image size in pixels (square, default 800)")->check(CLI::Range(16, 8192));
   cmd->add_flag("--guides", args->guides, "Draw the guides over the strands in a bright colour");

@@ -44,8 +44,7 @@ void run_regrow(const RegrowArgs &args) {
   options.guides_cache = args.guides_cache;
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
   Pipeline pipeline(groom, options);
-  const std::vector<int> frames = range.frames();
-  pipeline.check_cache_has(frames);
+  pipeline.check_cache_has(range);
 
   io::StrandWriteOptions write_options;
   write_options.root_uvs = pipeline.root_uvs();
@@ -56,9 +55,9 @@ void run_regrow(const RegrowArgs &args) {
   const PreviewCamera camera = groom_camera(pipeline);
   const std::vector<bool> scalp = groom_scalp(pipeline);
 
-  Progress progress("regrow", int(frames.size()));
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const int frame = frames[i];
+  Progress progress("regrow", int(range.count()));
+  for (int64_t i = 0; i < range.count(); ++i) {
+    const int frame = range.at(i);
     const FrameResult result = pipeline.produce(frame);
     write_options.time_code = frame;
     io::write_strands(expand_frame_pattern(out, frame), result.strands, write_options);

@@ -43,10 +43,9 @@ void run_simulate(const SimulateArgs &args) {
   const PreviewCamera camera = groom_camera(pipeline);
   const StrandSet no_strands;
 
-  const std::vector<int> frames = range.frames();
-  Progress progress("simulate", int(frames.size()));
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const int frame = frames[i];
+  Progress progress("simulate", int(range.count()));
+  for (int64_t i = 0; i < range.count(); ++i) {
+    const int frame = range.at(i);
     const Mesh posed = pipeline.posed_mesh(frame);
     const StrandSet guides = pipeline.guides_at(frame, posed);
     write_guide_cache(expand_frame_pattern(cache, frame), guides, frame);

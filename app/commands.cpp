@@ -39,8 +39,8 @@ PreviewSchedule::PreviewSchedule(std::string pattern, int every, const FrameRang
     check_output_pattern(pattern_, sequence_ ? range : FrameRange{range.first, range.first, 1}, what, {".png"});
 }
 
-std::string PreviewSchedule::path_at(size_t i, int frame) const {
-  const bool due = every_ > 0 ? i % size_t(every_) == 0 : i == 0;
+std::string PreviewSchedule::path_at(int64_t i, int frame) const {
+  const bool due = every_ > 0 ? i % every_ == 0 : i == 0;
   if (pattern_.empty() || !due || !(sequence_ || i == 0)) return {};
   return expand_frame_pattern(pattern_, frame);
 }

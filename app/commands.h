@@ -43,7 +43,7 @@ class PreviewSchedule {
   /// will name; throws InputError naming `what` (the option).
   PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what);
   /// The preview path of frame `frame`, the i-th of the range, or empty when none is due.
-  std::string path_at(size_t i, int frame) const;
+  std::string path_at(int64_t i, int frame) const;
 
  private:
   std::string pattern_;

@@ -61,12 +61,6 @@ FrameField find_frame_field(const std::string &pattern) {
 
 }  // namespace
 
-std::vector<int> FrameRange::frames() const {
-  std::vector<int> result;
-  for (int f = first; f <= last; f += step) result.push_back(f);
-  return result;
-}
-
 FrameRange parse_frame_range(const std::string &text, const std::string &what) {
   auto fail = [&](const std::string &why) {
     return InputError(what + ": expected a frame range like 1-48, 1-240:2 or 7, got \"" + text + "\"" +
@@ -87,6 +81,9 @@ FrameRange parse_frame_range(const std::string &text, const std::string &what) {
   if (pos != text.size()) throw fail("");
   if (range.last < range.first) throw fail("the last frame is before the first");
   if (range.step < 1) throw fail("the step must be at least 1");
+  const auto beyond = [](int value) { return value < -kMaxFrame || value > kMaxFrame; };
+  if (beyond(range.first) || beyond(range.last) || beyond(range.step))
+    throw fail("frames and steps have at most 9 digits");
   return range;
 }
 

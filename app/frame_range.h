@@ -2,24 +2,30 @@
 // "hair.%04d.usda") for the `plume` command.
 #pragma once
 
+#include <cstdint>
 #include <string>
-#include <vector>
 
 namespace plume {
 
-/// Frames first..last (inclusive) every `step`; first <= last, step >= 1.
+/// The largest frame number, and step, a range may hold: nine digits, as a groom file's
+/// output.frames allows. Frames lie in [-kMaxFrame, kMaxFrame], so first + step never overflows an int.
+inline constexpr int kMaxFrame = 999999999;
+
+/// Frames first..last (inclusive) every `step`; first <= last, step >= 1, all within +-kMaxFrame.
+/// A range may hold up to 2e9 frames: walk it by index (at()) rather than listing it.
 struct FrameRange {
   int first = 1;
   int last = 1;
   int step = 1;
 
-  /// The frames in order: first, first + step, ... up to last.
-  std::vector<int> frames() const;
-  int count() const { return (last - first) / step + 1; }
+  /// How many frames: first, first + step, ... up to last.
+  int64_t count() const { return (int64_t(last) - first) / step + 1; }
+  /// The i-th frame, i in [0, count()).
+  int at(int64_t i) const { return int(first + i * step); }
 };
 
 /// Parses "A", "A-B" or "A-B:S" (A, B may be negative: "-5-10"). Throws InputError naming `what`
-/// (e.g. "--frames") for anything else, for B < A and for S < 1.
+/// (e.g. "--frames") for anything else, for B < A, for S < 1 and for a number beyond kMaxFrame.
 FrameRange parse_frame_range(const std::string &text, const std::string &what);
 
 /// True when `pattern` holds a frame field: a run of '#' or a printf field %d / %0Nd.

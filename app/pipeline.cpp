@@ -212,10 +212,10 @@ FrameResult Pipeline::produce(int frame) {
   return result;
 }
 
-void Pipeline::check_cache_has(const std::vector<int> &frames) const {
+void Pipeline::check_cache_has(const FrameRange &range) const {
   if (!groom_.dynamics.enabled || options_.guides_cache.empty()) return;
-  for (int frame : frames) {
-    const std::string path = expand_frame_pattern(options_.guides_cache, frame);
+  for (int64_t i = 0; i < range.count(); ++i) {
+    const std::string path = expand_frame_pattern(options_.guides_cache, range.at(i));
     if (!std::filesystem::exists(path))
       throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
   }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "app/frame_range.h"
 #include "groom/groom_desc.h"
 #include "groom/guides.h"
 #include "groom/mesh.h"
@@ -79,8 +80,8 @@ class Pipeline {
   StrandSet guides_at(int frame, const Mesh &posed);
   /// The whole frame: posed mesh, guides, grown strands with effects applied and pushed out of the skin.
   FrameResult produce(int frame);
-  /// Throws InputError naming the first missing file when the guide cache lacks one of `frames`.
-  void check_cache_has(const std::vector<int> &frames) const;
+  /// Throws InputError naming the first missing file when the guide cache lacks a frame of `range`.
+  void check_cache_has(const FrameRange &range) const;
 
  private:
   GroomDesc groom_;

@@ -40,12 +40,12 @@ inline std::string read_text(const std::string &path) {
 
 inline std::string quoted(const std::string &s) { return "'" + s + "'"; }
 
-/// Runs `plume ARGS` (arguments already quoted as needed) with stdout and stderr captured in files
-/// of `scratch` (not a terminal, so no progress line).
-inline RunResult run_plume(const std::string &args, const ScratchDir &scratch) {
+/// Runs a shell command with stdout and stderr captured in files of `scratch` (not a terminal, so
+/// no progress line).
+inline RunResult run_plume_command(const std::string &shell_command, const ScratchDir &scratch) {
   const std::string out_path = scratch.path.string() + "/.stdout";
   const std::string err_path = scratch.path.string() + "/.stderr";
-  const std::string command = quoted(PLUME_BINARY) + " " + args + " >" + quoted(out_path) + " 2>" + quoted(err_path);
+  const std::string command = "(" + shell_command + ") >" + quoted(out_path) + " 2>" + quoted(err_path);
   const int status = std::system(command.c_str());
   RunResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -54,6 +54,17 @@ inline RunResult run_plume(const std::string &args, const ScratchDir &scratch) {
   fs::remove(out_path);
   fs::remove(err_path);
   return result;
+}
+
+/// Runs `plume ARGS` (arguments already quoted as needed), as run_plume_command().
+inline RunResult run_plume(const std::string &args, const ScratchDir &scratch) {
+  return run_plume_command(quoted(PLUME_BINARY) + " " + args, scratch);
+}
+
+/// run_plume() under a 2 GB address-space limit and a 60 s timeout, for inputs that once made plume
+/// allocate without bound or loop: a regression then fails (exit 1 or 124) instead of taking the machine.
+inline RunResult run_plume_bounded(const std::string &args, const ScratchDir &scratch) {
+  return run_plume_command("ulimit -v 2000000; exec timeout 60 " + quoted(PLUME_BINARY) + " " + args, scratch);
 }
 
 /// Every regular file below `dir` (recursively), sorted.

@@ -111,7 +111,7 @@ void add_check_command(CLI::App &app, int &r_exit_code) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--margin", args->margin, "Skin margin: points closer to the skin than this count as inside")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--threads", args->threads, "Worker threads")->check(CLI::PositiveNumber);
+  add_threads_option(*cmd, args->threads, "Worker threads");
   cmd->add_flag("--strict", args->strict, "Exit with code 3 when a violation is found");
   cmd->callback([args, &r_exit_code] { r_exit_code = run_check(*args); });
 }

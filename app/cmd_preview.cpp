@@ -50,7 +50,7 @@ void add_preview_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--out", args->out, "Output PNG (a #### field is replaced by the frame)")->required();
   cmd->add_option("--size", args->size, "Image size in pixels (square, default 800)")->check(CLI::Range(16, 8192));
   cmd->add_flag("--guides", args->guides, "Draw the guides over the strands in a bright colour");
-  cmd->add_option("--threads", args->threads, "Worker threads")->check(CLI::PositiveNumber);
+  add_threads_option(*cmd, args->threads, "Worker threads");
   cmd->add_option("--strands", args->strands, "Override the groom's root count")->check(CLI::PositiveNumber);
   cmd->add_option("--guides-cache", args->guides_cache, "Dynamics: read the guides from this cache pattern");
   cmd->callback([args, &r_exit_code] {

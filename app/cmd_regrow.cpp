@@ -87,8 +87,7 @@ void add_regrow_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--preview-size", args->preview_size, "Preview size in pixels (default 800)")
       ->check(CLI::Range(16, 8192));
   cmd->add_flag("--preview-guides", args->preview_guides, "Draw the guides over the strands in the previews");
-  cmd->add_option("--threads", args->threads, "Worker threads (default: all cores; output does not depend on it)")
-      ->check(CLI::PositiveNumber);
+  add_threads_option(*cmd, args->threads, "Worker threads (default: all cores; output does not depend on it)");
   cmd->add_option("--strands", args->strands, "Override the groom's root count (a proxy of the full groom)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--guides-cache", args->guides_cache,

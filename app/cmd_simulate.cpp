@@ -70,8 +70,7 @@ void add_simulate_command(CLI::App &app, int &r_exit_code) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--preview-size", args->preview_size, "Preview size in pixels (default 800)")
       ->check(CLI::Range(16, 8192));
-  cmd->add_option("--threads", args->threads, "Worker threads (output does not depend on it)")
-      ->check(CLI::PositiveNumber);
+  add_threads_option(*cmd, args->threads, "Worker threads (output does not depend on it)");
   cmd->callback([args, &r_exit_code] {
     run_simulate(*args);
     r_exit_code = 0;

@@ -16,6 +16,10 @@ void set_thread_count(int threads) {
   if (threads > 0) omp_set_num_threads(threads);
 }
 
+void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description) {
+  cmd.add_option("--threads", r_threads, description)->check(CLI::Range(1, kMaxThreads));
+}
+
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {
   if (!option.empty()) return parse_frame_range(option, "--frames");
   if (!groom.output.frames.empty()) return parse_frame_range(groom.output.frames, groom.source + ": output.frames");

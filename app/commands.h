@@ -23,10 +23,19 @@ void add_check_command(CLI::App &app, int &r_exit_code);
 /// Exit code of `plume check --strict` when the strands break a promise.
 inline constexpr int kExitViolations = 3;
 
+/// The most worker threads `--threads` accepts. libgomp starts one OS thread per requested thread,
+/// each with its own stack; tens of thousands of them exceed the system's thread and mapping limits
+/// (libgomp then fails or crashes). 1024 is twice the hardware threads of the largest two-socket
+/// nodes (2 x 128 cores x 2), and more threads than cores only add overhead: results do not
+/// depend on the count.
+inline constexpr int kMaxThreads = 1024;
+
 // Shared by the commands.
 
 /// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it).
 void set_thread_count(int threads);
+/// Adds `--threads N`, N in [1, kMaxThreads], to `cmd`.
+void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description);
 /// The frames to produce: `option` when given, else the groom's output.frames, else frame 1.
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom);
 /// The first frame of the groom's own range (output.frames), 1 when it has none.

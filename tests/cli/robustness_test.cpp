@@ -45,3 +45,23 @@ TEST_CASE("frame numbers beyond nine digits are rejected, as in a groom's output
   CHECK(run.exit_code == 0);
   CHECK(fs::exists(scratch / "h.999999999.hair"));
 }
+
+TEST_CASE("--threads beyond 1024 is rejected before any thread is started", "[cli]") {
+  ScratchDir scratch("threads_bound");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  const fs::path out = scratch.path / "out";
+  for (const std::string threads : {"1025", "32768", "100000"}) {
+    require_rejected("regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda") +
+                         " --threads " + threads,
+                     "--threads", scratch, out);
+    require_rejected("preview " + quoted(groom) + " --size 64 --out " + quoted(out.string() + "/p.png") +
+                         " --threads " + threads,
+                     "--threads", scratch, out);
+    require_rejected("check " + quoted(sintel_dir() + "/sintel_guides.hair") + " --mesh " +
+                         quoted(sintel_dir() + "/sintel.obj") + " --threads " + threads,
+                     "--threads", scratch, out);
+  }
+  require_rejected("simulate " + quoted(write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n")) +
+                       " --frames 1 --cache " + quoted(out.string() + "/c.#.hair") + " --threads 100000",
+                   "--threads", scratch, out);
+}

@@ -51,7 +51,7 @@ void add_preview_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--size", args->size, "Image size in pixels (square, default 800)")->check(CLI::Range(16, 8192));
   cmd->add_flag("--guides", args->guides, "Draw the guides over the strands in a bright colour");
   add_threads_option(*cmd, args->threads, "Worker threads");
-  cmd->add_option("--strands", args->strands, "Override the groom's root count")->check(CLI::PositiveNumber);
+  add_strands_option(*cmd, args->strands, "Override the groom's root count");
   cmd->add_option("--guides-cache", args->guides_cache, "Dynamics: read the guides from this cache pattern");
   cmd->callback([args, &r_exit_code] {
     run_preview(*args);

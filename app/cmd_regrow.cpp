@@ -88,8 +88,7 @@ void add_regrow_command(CLI::App &app, int &r_exit_code) {
       ->check(CLI::Range(16, 8192));
   cmd->add_flag("--preview-guides", args->preview_guides, "Draw the guides over the strands in the previews");
   add_threads_option(*cmd, args->threads, "Worker threads (default: all cores; output does not depend on it)");
-  cmd->add_option("--strands", args->strands, "Override the groom's root count (a proxy of the full groom)")
-      ->check(CLI::PositiveNumber);
+  add_strands_option(*cmd, args->strands, "Override the groom's root count (a proxy of the full groom)");
   cmd->add_option("--guides-cache", args->guides_cache,
                   "Dynamics: read the simulated guides of every frame from this cache (written by plume simulate), "
                   "e.g. cache/guides.####.hair");

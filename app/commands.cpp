@@ -20,6 +20,10 @@ void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &descri
   cmd.add_option("--threads", r_threads, description)->check(CLI::Range(1, kMaxThreads));
 }
 
+void add_strands_option(CLI::App &cmd, int64_t &r_strands, const std::string &description) {
+  cmd.add_option("--strands", r_strands, description)->check(CLI::Range(int64_t(1), kMaxRootCount));
+}
+
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {
   if (!option.empty()) return parse_frame_range(option, "--frames");
   if (!groom.output.frames.empty()) return parse_frame_range(groom.output.frames, groom.source + ": output.frames");

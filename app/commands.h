@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,8 @@ inline constexpr int kMaxThreads = 1024;
 void set_thread_count(int threads);
 /// Adds `--threads N`, N in [1, kMaxThreads], to `cmd`.
 void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description);
+/// Adds `--strands N`, N in [1, kMaxRootCount] (pipeline.h), to `cmd`.
+void add_strands_option(CLI::App &cmd, int64_t &r_strands, const std::string &description);
 /// The frames to produce: `option` when given, else the groom's output.frames, else frame 1.
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom);
 /// The first frame of the groom's own range (output.frames), 1 when it has none.

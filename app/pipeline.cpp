@@ -76,7 +76,12 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
   if (count_override >= 0) {
     count = count_override;
   } else if (count <= 0) {
-    count = int64_t(std::llround(settings.density * masked_area(rest_mesh, mask)));
+    const double wanted = settings.density * masked_area(rest_mesh, mask);
+    // Checked as a double: a product beyond int64 would not round to a count at all.
+    if (!(wanted <= double(kMaxRootCount)))
+      throw InputError(settings.loc, "roots.density: density x area gives " + std::to_string(wanted) +
+                                         " roots, more than " + std::to_string(kMaxRootCount));
+    count = int64_t(std::llround(wanted));
   }
   if (count <= 0 && count_override < 0)
     throw InputError(settings.loc, "roots: the groom gives no roots (count 0, or density x area < 1)");

@@ -65,3 +65,24 @@ TEST_CASE("--threads beyond 1024 is rejected before any thread is started", "[cl
                        " --frames 1 --cache " + quoted(out.string() + "/c.#.hair") + " --threads 100000",
                    "--threads", scratch, out);
 }
+
+TEST_CASE("--strands beyond 100,000,000 roots is rejected, as a groom's roots.count", "[cli]") {
+  ScratchDir scratch("strands_bound");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  const fs::path out = scratch.path / "out";
+  for (const std::string strands : {"100000001", "2147483648", "999999999999"}) {
+    require_rejected("regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda") +
+                         " --strands " + strands,
+                     "--strands", scratch, out);
+    require_rejected("preview " + quoted(groom) + " --size 64 --out " + quoted(out.string() + "/p.png") +
+                         " --strands " + strands,
+                     "--strands", scratch, out);
+  }
+  // The same bound on the count a groom's roots.density gives over the emitter's area.
+  std::string text = read_text(groom);
+  text.replace(text.find("count: 400"), 10, "density: 100000000");
+  const std::string dense = scratch / "dense.groom.yaml";
+  std::ofstream(dense) << text;
+  require_rejected("regrow " + quoted(dense) + " --frames 1 --out " + quoted(out.string() + "/h.usda"), "roots.density",
+                   scratch, out);
+}

@@ -108,9 +108,9 @@ void add_check_command(CLI::App &app, int &r_exit_code) {
                   "Groom file: its guides, partings and interpolation settings (strands at the rest pose)");
   cmd->add_option("--tolerance", args->tolerance,
                   "Two strands cross when segments come closer than this (scene units); 0 skips the count")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--margin", args->margin, "Skin margin: points closer to the skin than this count as inside")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   add_threads_option(*cmd, args->threads, "Worker threads");
   cmd->add_flag("--strict", args->strict, "Exit with code 3 when a violation is found");
   cmd->callback([args, &r_exit_code] { r_exit_code = run_check(*args); });

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <utility>
 
 #include "app/pipeline.h"
@@ -22,6 +24,19 @@ void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &descri
 
 void add_strands_option(CLI::App &cmd, int64_t &r_strands, const std::string &description) {
   cmd.add_option("--strands", r_strands, description)->check(CLI::Range(int64_t(1), kMaxRootCount));
+}
+
+CLI::Validator finite_non_negative() {
+  return CLI::Validator(
+      [](std::string &text) {
+        char *end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        // Also finite as a float: the options it checks are floats.
+        if (text.empty() || *end != '\0' || !(value >= 0.0 && value <= std::numeric_limits<float>::max()))
+          return "expected a finite number >= 0, got \"" + text + "\"";
+        return std::string();
+      },
+      "FINITE>=0");
 }
 
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {

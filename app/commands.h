@@ -39,6 +39,9 @@ void set_thread_count(int threads);
 void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description);
 /// Adds `--strands N`, N in [1, kMaxRootCount] (pipeline.h), to `cmd`.
 void add_strands_option(CLI::App &cmd, int64_t &r_strands, const std::string &description);
+/// A number >= 0 and finite as a float ("nan", "inf", 1e39 and negatives fail with a message
+/// naming the value).
+CLI::Validator finite_non_negative();
 /// The frames to produce: `option` when given, else the groom's output.frames, else frame 1.
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom);
 /// The first frame of the groom's own range (output.frames), 1 when it has none.

@@ -86,3 +86,20 @@ TEST_CASE("--strands beyond 100,000,000 roots is rejected, as a groom's roots.co
   require_rejected("regrow " + quoted(dense) + " --frames 1 --out " + quoted(out.string() + "/h.usda"), "roots.density",
                    scratch, out);
 }
+
+TEST_CASE("check rejects a NaN tolerance or margin, as it rejects inf and negatives", "[cli]") {
+  ScratchDir scratch("check_nan");
+  const std::string strands = quoted(sintel_dir() + "/sintel_guides.hair");
+  const std::string mesh = " --mesh " + quoted(sintel_dir() + "/sintel.obj");
+  for (const std::string option : {"--tolerance", "--margin"}) {
+    for (const std::string value : {"nan", "NaN", "-nan", "inf", "-1", "1e39"}) {
+      INFO(option << " " << value);
+      const RunResult run = run_plume_bounded("check " + strands + mesh + " " + option + " " + value, scratch);
+      INFO(run.out << run.err);
+      CHECK(run.exit_code == 2);
+      CHECK(run.err.find(option) != std::string::npos);
+    }
+  }
+  const RunResult run = run_plume_bounded("check " + strands + mesh + " --tolerance 0.01 --margin 0", scratch);
+  CHECK(run.exit_code == 0);
+}

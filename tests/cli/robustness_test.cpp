@@ -103,3 +103,14 @@ TEST_CASE("check rejects a NaN tolerance or margin, as it rejects inf and negati
   const RunResult run = run_plume_bounded("check " + strands + mesh + " --tolerance 0.01 --margin 0", scratch);
   CHECK(run.exit_code == 0);
 }
+
+TEST_CASE("simulate names the groom file when the groom has no dynamics", "[cli]") {
+  ScratchDir scratch("simulate_no_dynamics");
+  const std::string groom = write_sintel_groom(scratch, "still", "");
+  const RunResult run = run_plume_bounded(
+      "simulate " + quoted(groom) + " --frames 1 --cache " + quoted(scratch / "out/c.#.hair"), scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("still.groom.yaml: dynamics.enabled") != std::string::npos);
+  CHECK(run.err.find("<input>") == std::string::npos);
+}

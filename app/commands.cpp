@@ -71,10 +71,7 @@ std::string PreviewSchedule::path_at(int64_t i, int frame) const {
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
                           const std::vector<std::string> &extensions) {
   if (pattern.empty()) throw InputError(what + ": expected an output path, got none");
-  if (range.count() > 1 && !has_frame_field(pattern))
-    throw InputError(what + ": " + std::to_string(range.count()) +
-                     " frames need a frame field in the path (#### or %04d), got \"" + pattern + "\"");
-  expand_frame_pattern(pattern, range.first);  // rejects malformed fields before any work
+  check_frame_pattern(pattern, range, what);
   const std::string ext = extension_of(pattern);
   if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) {
     std::string list;

@@ -46,8 +46,7 @@ CLI::Validator finite_non_negative();
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom);
 /// The first frame of the groom's own range (output.frames), 1 when it has none.
 int groom_first_frame(const GroomDesc &groom);
-/// Throws InputError unless `pattern` can name every frame of `range` (a frame field when there is
-/// more than one frame) and ends with one of `extensions`. `what` names the option.
+/// check_frame_pattern(), and the pattern is not empty and ends with one of `extensions`.
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
                           const std::vector<std::string> &extensions);
 /// Which frames of a range get a preview PNG, and where: every `every`-th frame of the range

@@ -102,4 +102,11 @@ std::string expand_frame_pattern(const std::string &pattern, int frame) {
   return result;
 }
 
+void check_frame_pattern(const std::string &pattern, const FrameRange &range, const std::string &what) {
+  if (range.count() > 1 && !has_frame_field(pattern))
+    throw InputError(what + ": " + std::to_string(range.count()) +
+                     " frames need a frame field in the path (#### or %04d), got \"" + pattern + "\"");
+  expand_frame_pattern(pattern, range.first);  // rejects malformed fields before any work
+}
+
 }  // namespace plume

@@ -219,6 +219,7 @@ FrameResult Pipeline::produce(int frame) {
 
 void Pipeline::check_cache_has(const FrameRange &range) const {
   if (!groom_.dynamics.enabled || options_.guides_cache.empty()) return;
+  check_frame_pattern(options_.guides_cache, range, "--guides-cache");
   for (int64_t i = 0; i < range.count(); ++i) {
     const std::string path = expand_frame_pattern(options_.guides_cache, range.at(i));
     if (!std::filesystem::exists(path))

@@ -83,7 +83,8 @@ class Pipeline {
   StrandSet guides_at(int frame, const Mesh &posed);
   /// The whole frame: posed mesh, guides, grown strands with effects applied and pushed out of the skin.
   FrameResult produce(int frame);
-  /// Throws InputError naming the first missing file when the guide cache lacks a frame of `range`.
+  /// Throws InputError when the guide-cache pattern cannot name every frame of `range` (a frame field)
+  /// or, naming the first missing file, when the cache lacks a frame of `range`.
   void check_cache_has(const FrameRange &range) const;
 
  private:

@@ -114,3 +114,21 @@ TEST_CASE("simulate names the groom file when the groom has no dynamics", "[cli]
   CHECK(run.err.find("still.groom.yaml: dynamics.enabled") != std::string::npos);
   CHECK(run.err.find("<input>") == std::string::npos);
 }
+
+TEST_CASE("a guide cache without a frame field cannot serve a range of frames", "[cli]") {
+  ScratchDir scratch("cache_field");
+  const std::string groom = write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n");
+  const fs::path out = scratch.path / "out";
+  REQUIRE(run_plume_bounded("simulate " + quoted(groom) + " --frames 1-3 --cache " + quoted(scratch / "c.####.hair"),
+                            scratch)
+              .exit_code == 0);
+  const std::string one = " --guides-cache " + quoted(scratch / "c.0001.hair");
+  require_rejected("regrow " + quoted(groom) + " --frames 1-3 --strands 20" + one + " --out " +
+                       quoted(out.string() + "/h.####.usda"),
+                   "--guides-cache: 3 frames need a frame field", scratch, out);
+  // One frame may name its cache file directly.
+  const RunResult run = run_plume_bounded(
+      "regrow " + quoted(groom) + " --frames 1 --strands 20" + one + " --out " + quoted(scratch / "h.usda"), scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+}

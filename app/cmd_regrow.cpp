@@ -33,10 +33,11 @@ void run_regrow(const RegrowArgs &args) {
   const GroomDesc groom = io::read_groom_file(args.groom);
   const FrameRange range = frames_to_produce(args.frames, groom);
   const std::string out = args.out.empty() ? groom.output.path_pattern : args.out;
-  check_output_pattern(out, range, "--out", kStrandExtensions);
+  const std::string out_what = args.out.empty() ? groom.source + ": output.path" : "--out";
+  check_output_pattern(out, range, out_what, kStrandExtensions);
   const PreviewSchedule previews(args.preview.empty() ? groom.output.preview_pattern : args.preview,
                                  args.preview_every >= 0 ? args.preview_every : groom.output.preview_every, range,
-                                 "--preview");
+                                 args.preview.empty() ? groom.source + ": output.preview" : "--preview");
   set_thread_count(args.threads);
 
   PipelineOptions options;

@@ -32,7 +32,8 @@ void run_simulate(const SimulateArgs &args) {
                                          "dynamics: its guides only follow the skin)");
   const FrameRange range = frames_to_produce(args.frames, groom);
   const std::string cache = args.cache.empty() ? groom.dynamics.cache_pattern : args.cache;
-  check_output_pattern(cache, range, "--cache", {".hair", ".usda", ".ply", ".obj"});
+  const std::string cache_what = args.cache.empty() ? groom.source + ": dynamics.cache" : "--cache";
+  check_output_pattern(cache, range, cache_what, {".hair", ".usda", ".ply", ".obj"});
   const PreviewSchedule previews(args.preview, args.preview_every, range, "--preview");
   set_thread_count(args.threads);
 

@@ -103,6 +103,12 @@ std::string expand_frame_pattern(const std::string &pattern, int frame) {
 }
 
 void check_frame_pattern(const std::string &pattern, const FrameRange &range, const std::string &what) {
+  if (pattern.find('\0') != std::string::npos) {
+    // The system would end the file name at the NUL: every frame would go to one truncated name.
+    std::string shown;
+    for (const char c : pattern) shown += c == '\0' ? std::string("\\0") : std::string(1, c);
+    throw InputError(what + ": a path cannot hold a NUL character, got \"" + shown + "\"");
+  }
   if (range.count() > 1 && !has_frame_field(pattern))
     throw InputError(what + ": " + std::to_string(range.count()) +
                      " frames need a frame field in the path (#### or %04d), got \"" + pattern + "\"");

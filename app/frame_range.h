@@ -37,7 +37,8 @@ bool has_frame_field(const std::string &pattern);
 std::string expand_frame_pattern(const std::string &pattern, int frame);
 
 /// Throws InputError naming `what` (the option or groom key) unless `pattern` can name every frame
-/// of `range`: a frame field when there is more than one frame, no malformed field.
+/// of `range`: no NUL character (a file name would end there), a frame field when there is more
+/// than one frame, no malformed field.
 void check_frame_pattern(const std::string &pattern, const FrameRange &range, const std::string &what);
 
 }  // namespace plume

@@ -132,3 +132,14 @@ TEST_CASE("a guide cache without a frame field cannot serve a range of frames", 
   INFO(run.err);
   CHECK(run.exit_code == 0);
 }
+
+TEST_CASE("an output path holding a NUL character is rejected", "[cli]") {
+  ScratchDir scratch("nul_path");
+  // YAML's "\0" escape puts a NUL into the string: the system would cut the name there.
+  const std::string groom = write_sintel_groom(scratch, "nul", "output: {path: \"out/ha\\0ir.####.usda\"}\n");
+  const RunResult run = run_plume_bounded("regrow " + quoted(groom) + " --frames 1-2 --strands 20", scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("output.path: a path cannot hold a NUL character") != std::string::npos);
+  CHECK(files_in(scratch.path / "out").empty());
+}

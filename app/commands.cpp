@@ -1,6 +1,7 @@
 #include "app/commands.h"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -57,7 +58,7 @@ std::string extension_of(const std::string &path) {
 }
 
 PreviewSchedule::PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what)
-    : pattern_(std::move(pattern)), every_(every), sequence_(!pattern_.empty() && has_frame_field(pattern_)) {
+    : what_(what), pattern_(std::move(pattern)), every_(every), sequence_(!pattern_.empty() && has_frame_field(pattern_)) {
   if (!pattern_.empty())
     check_output_pattern(pattern_, sequence_ ? range : FrameRange{range.first, range.first, 1}, what, {".png"});
 }
@@ -66,6 +67,50 @@ std::string PreviewSchedule::path_at(int64_t i, int frame) const {
   const bool due = every_ > 0 ? i % every_ == 0 : i == 0;
   if (pattern_.empty() || !due || !(sequence_ || i == 0)) return {};
   return expand_frame_pattern(pattern_, frame);
+}
+
+namespace {
+
+// check_output_locations() for the frames frame_at(0) .. frame_at(count - 1).
+template <typename FrameAt>
+void check_locations_of(const std::string &pattern, int64_t count, const FrameAt &frame_at, const std::string &what) {
+  namespace fs = std::filesystem;
+  fs::path checked_folder;
+  for (int64_t i = 0; i < count; ++i) {
+    const fs::path path = expand_frame_pattern(pattern, frame_at(i));
+    std::error_code error;
+    if (fs::is_directory(path, error))
+      throw InputError(what + ": " + path.string() + " is an existing directory, expected a file name");
+    const fs::path folder = path.parent_path();
+    if (i > 0 && folder == checked_folder) continue;
+    // The nearest existing ancestor must be a directory one may write in: the writer creates the rest.
+    fs::path existing = folder;
+    while (!existing.empty() && !fs::exists(existing, error)) {
+      const fs::path up = existing.parent_path();
+      if (up == existing) break;
+      existing = up;
+    }
+    if (existing.empty()) existing = ".";
+    if (!fs::is_directory(existing, error))
+      throw InputError(what + ": cannot write " + path.string() + ": " + existing.string() + " is not a directory");
+    if (::access(existing.c_str(), W_OK | X_OK) != 0)
+      throw InputError(what + ": cannot write " + path.string() + ": no permission to write in " + existing.string());
+    checked_folder = folder;
+  }
+}
+
+}  // namespace
+
+void check_output_locations(const std::string &pattern, const FrameRange &range, const std::string &what) {
+  check_locations_of(pattern, range.count(), [&](int64_t i) { return range.at(i); }, what);
+}
+
+void PreviewSchedule::check_locations(const FrameRange &range) const {
+  if (pattern_.empty()) return;
+  // The due frames are the i-th of the range for i = 0, every_, 2 every_, ... (path_at()).
+  const int64_t stride = every_ > 0 && sequence_ ? every_ : range.count();
+  const int64_t due_count = (range.count() - 1) / stride + 1;
+  check_locations_of(pattern_, due_count, [&](int64_t k) { return range.at(k * stride); }, what_);
 }
 
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,

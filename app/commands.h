@@ -49,6 +49,11 @@ int groom_first_frame(const GroomDesc &groom);
 /// check_frame_pattern(), and the pattern is not empty and ends with one of `extensions`.
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
                           const std::vector<std::string> &extensions);
+/// Throws InputError naming `what` unless every file `pattern` names for `range` can be written: no
+/// target is an existing directory, and each target's folder exists as a writable directory or can
+/// be created (its nearest existing ancestor is one). Called before the first write of a run, so
+/// that a bad location exits with 2 before any output exists. Walks the range without listing it.
+void check_output_locations(const std::string &pattern, const FrameRange &range, const std::string &what);
 /// Which frames of a range get a preview PNG, and where: every `every`-th frame of the range
 /// (0: the first only), and only the first when the pattern has no frame field.
 class PreviewSchedule {
@@ -58,8 +63,11 @@ class PreviewSchedule {
   PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what);
   /// The preview path of frame `frame`, the i-th of the range, or empty when none is due.
   std::string path_at(int64_t i, int frame) const;
+  /// check_output_locations() for the previews due in `range` (the range given to the constructor).
+  void check_locations(const FrameRange &range) const;
 
  private:
+  std::string what_;
   std::string pattern_;
   int every_;
   bool sequence_;  // the pattern has a frame field

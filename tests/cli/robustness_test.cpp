@@ -143,3 +143,44 @@ TEST_CASE("an output path holding a NUL character is rejected", "[cli]") {
   CHECK(run.err.find("output.path: a path cannot hold a NUL character") != std::string::npos);
   CHECK(files_in(scratch.path / "out").empty());
 }
+
+TEST_CASE("every output location of a run is checked before the first file is written", "[cli]") {
+  ScratchDir scratch("output_locations");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  const fs::path out = scratch.path / "out";
+  std::ofstream(scratch / "notadir") << "a file, not a folder\n";
+  // A preview under a regular file: the strands would have been written first.
+  require_rejected("regrow " + quoted(groom) + " --frames 1 --strands 20 --out " + quoted(out.string() + "/A/h.usda") +
+                       " --preview " + quoted(scratch / "notadir/p.png"),
+                   "notadir is not a directory", scratch, out);
+  // The strands under a regular file, two levels down.
+  require_rejected("regrow " + quoted(groom) + " --frames 1 --strands 20 --out " +
+                       quoted(scratch / "notadir/deeper/h.usda") + " --preview " + quoted(out.string() + "/p.png"),
+                   "notadir is not a directory", scratch, out);
+  // Frame 3's strand file is an existing directory: frames 1 and 2 would have been written.
+  fs::create_directories(out / "B/h.0003.usda");
+  require_rejected("regrow " + quoted(groom) + " --frames 1-4 --strands 20 --out " +
+                       quoted(out.string() + "/B/h.####.usda"),
+                   "h.0003.usda is an existing directory", scratch, out);
+  // Frame 3's preview (every second frame of 1-4: frames 1 and 3) is an existing directory.
+  fs::create_directories(out / "P/p.0003.png");
+  require_rejected("regrow " + quoted(groom) + " --frames 1-4 --strands 20 --out " +
+                       quoted(out.string() + "/P/h.####.hair") + " --preview " + quoted(out.string() + "/P/p.####.png") +
+                       " --preview-every 2",
+                   "p.0003.png is an existing directory", scratch, out);
+  // A cache frame of simulate that is a directory.
+  const std::string dyn = write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n");
+  fs::create_directories(out / "C/c.0002.hair");
+  require_rejected("simulate " + quoted(dyn) + " --frames 1-3 --cache " + quoted(out.string() + "/C/c.####.hair"),
+                   "c.0002.hair is an existing directory", scratch, out);
+  // The one picture of plume preview.
+  require_rejected("preview " + quoted(groom) + " --size 64 --out " + quoted(scratch / "notadir/p.png"),
+                   "notadir is not a directory", scratch, out);
+  // Folders that do not exist yet are made.
+  const RunResult run = run_plume_bounded("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --out " +
+                                              quoted(scratch / "new/deep/h.####.hair"),
+                                          scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(fs::exists(scratch / "new/deep/h.0002.hair"));
+}

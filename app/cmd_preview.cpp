@@ -32,7 +32,7 @@ void run_preview(const PreviewArgs &args) {
   options.guides_cache = args.guides_cache;
   options.simulation_start = std::min(groom_first_frame(groom), args.frame);
   Pipeline pipeline(groom, options);
-  pipeline.check_cache_has(single);
+  pipeline.check_frame_inputs(single);
   const FrameResult result = pipeline.produce(args.frame);
   PreviewStyle style;
   style.size = args.size;

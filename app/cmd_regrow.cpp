@@ -47,7 +47,7 @@ void run_regrow(const RegrowArgs &args) {
   options.guides_cache = args.guides_cache;
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
   Pipeline pipeline(groom, options);
-  pipeline.check_cache_has(range);
+  pipeline.check_frame_inputs(range);
 
   io::StrandWriteOptions write_options;
   write_options.root_uvs = pipeline.root_uvs();

@@ -43,6 +43,7 @@ void run_simulate(const SimulateArgs &args) {
   options.strand_count = 0;  // guides only: no dense roots are needed
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
   Pipeline pipeline(groom, options);
+  pipeline.check_frame_inputs(range);
   PreviewStyle style;
   style.size = args.preview_size > 0 ? args.preview_size : groom.output.preview_size;
   const PreviewCamera camera = groom_camera(pipeline);

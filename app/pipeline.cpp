@@ -165,20 +165,7 @@ Mesh Pipeline::posed_mesh(int frame) const {
 StrandSet Pipeline::guides_at(int frame, const Mesh &posed) {
   if (!groom_.dynamics.enabled) return carry_guides(rest_mesh_, posed, guides_);
 
-  if (!options_.guides_cache.empty()) {
-    const std::string path = expand_frame_pattern(options_.guides_cache, frame);
-    if (!std::filesystem::exists(path))
-      throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
-    const StrandSet cached = io::read_strands(path);
-    if (cached.offsets != guides_.strands.offsets)
-      throw InputError(FileLoc{path}, "guide cache: expected " + std::to_string(guides_.size()) + " guides of " +
-                                          "the groom's point counts, got " + std::to_string(cached.strand_count()) +
-                                          " strands / " + std::to_string(cached.point_count()) + " points");
-    // Keep the rest guides' ids and widths: only the positions are simulated.
-    StrandSet result = guides_.strands;
-    result.positions = cached.positions;
-    return result;
-  }
+  if (!options_.guides_cache.empty()) return read_cached_guides(frame);
 
   const int start = std::min(options_.simulation_start, frame) - groom_.dynamics.preroll_frames;
   if (!simulated_frame_ || *simulated_frame_ > frame) {
@@ -217,14 +204,45 @@ FrameResult Pipeline::produce(int frame) {
   return result;
 }
 
-void Pipeline::check_cache_has(const FrameRange &range) const {
-  if (!groom_.dynamics.enabled || options_.guides_cache.empty()) return;
-  check_frame_pattern(options_.guides_cache, range, "--guides-cache");
-  for (int64_t i = 0; i < range.count(); ++i) {
-    const std::string path = expand_frame_pattern(options_.guides_cache, range.at(i));
-    if (!std::filesystem::exists(path))
-      throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
+StrandSet Pipeline::read_cached_guides(int frame) const {
+  const std::string path = expand_frame_pattern(options_.guides_cache, frame);
+  if (!std::filesystem::exists(path))
+    throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
+  const StrandSet cached = io::read_strands(path);
+  if (cached.offsets != guides_.strands.offsets)
+    throw InputError(FileLoc{path}, "guide cache: expected " + std::to_string(guides_.size()) + " guides of " +
+                                        "the groom's point counts, got " + std::to_string(cached.strand_count()) +
+                                        " strands / " + std::to_string(cached.point_count()) + " points");
+  // Keep the rest guides' ids and widths: only the positions are simulated.
+  StrandSet result = guides_.strands;
+  result.positions = cached.positions;
+  return result;
+}
+
+void Pipeline::check_frame_inputs(const FrameRange &range) const {
+  const bool cached = groom_.dynamics.enabled && !options_.guides_cache.empty();
+  if (cached) {
+    check_frame_pattern(options_.guides_cache, range, "--guides-cache");
+    for (int64_t i = 0; i < range.count(); ++i) read_cached_guides(range.at(i));
   }
+  const EmitterAnimation &animation = groom_.animation;
+  if (animation.kind != EmitterAnimation::Kind::obj_sequence) return;
+  // Simulating without a cache poses the emitter at every frame from the simulation's start
+  // (guides_at()); otherwise only the range's frames are posed.
+  FrameRange posed = range;
+  if (groom_.dynamics.enabled && !cached)
+    posed = FrameRange{std::min(options_.simulation_start, range.first) - groom_.dynamics.preroll_frames, range.last, 1};
+  const std::string what = groom_.source + ": emitter.animation.sequence";
+  check_frame_pattern(animation.sequence_pattern, posed, what);
+  // Existence first, so that a missing frame is named before the slower parse of the others.
+  for (int64_t i = 0; i < posed.count(); ++i) {
+    const std::string path = expand_frame_pattern(animation.sequence_pattern, posed.at(i));
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error))
+      throw InputError(what + ": " + path + (std::filesystem::exists(path, error) ? " is not a file" : " does not exist"));
+  }
+  for (int64_t i = 0; i < posed.count(); ++i)
+    io::read_obj_pose(expand_frame_pattern(animation.sequence_pattern, posed.at(i)), rest_mesh_);
 }
 
 void write_guide_cache(const std::string &path, const StrandSet &guides, int frame) {

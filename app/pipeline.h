@@ -83,11 +83,18 @@ class Pipeline {
   StrandSet guides_at(int frame, const Mesh &posed);
   /// The whole frame: posed mesh, guides, grown strands with effects applied and pushed out of the skin.
   FrameResult produce(int frame);
-  /// Throws InputError when the guide-cache pattern cannot name every frame of `range` (a frame field)
-  /// or, naming the first missing file, when the cache lacks a frame of `range`.
-  void check_cache_has(const FrameRange &range) const;
+  /// Reads and checks, one file at a time, every per-frame input that producing the frames of
+  /// `range` reads, so that bad input is found before the first output is written: with a guide
+  /// cache, the pattern and every needed cache file (exists, parses, matches the guides); with an
+  /// emitter OBJ sequence, every needed frame (parses, has the rest mesh's topology), including the
+  /// frames simulated before the range. Nothing is kept: memory does not grow with the range.
+  /// Throws InputError naming the file.
+  void check_frame_inputs(const FrameRange &range) const;
 
  private:
+  /// The guides of `frame` read from the guide cache, checked against the rest guides.
+  StrandSet read_cached_guides(int frame) const;
+
   GroomDesc groom_;
   PipelineOptions options_;
   Mesh rest_mesh_;

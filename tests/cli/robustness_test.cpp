@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <functional>
 
 #include "cli/cli_fixtures.h"
 
@@ -183,4 +184,90 @@ TEST_CASE("every output location of a run is checked before the first file is wr
   INFO(run.err);
   CHECK(run.exit_code == 0);
   CHECK(fs::exists(scratch / "new/deep/h.0002.hair"));
+}
+
+TEST_CASE("every needed guide-cache frame is read and checked before the first file is written", "[cli]") {
+  ScratchDir scratch("cache_frames");
+  const std::string groom = write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n");
+  const fs::path out = scratch.path / "out";
+  const std::string cache = scratch / "cache/c.####.hair";
+  RunResult run = run_plume_bounded("simulate " + quoted(groom) + " --frames 1-3 --cache " + quoted(cache), scratch);
+  REQUIRE(run.exit_code == 0);
+  const std::string frame2 = scratch / "cache/c.0002.hair";
+  const std::string good = read_text(frame2);
+  REQUIRE(good.size() > 1000);
+  const std::string regrow = "regrow " + quoted(groom) + " --frames 1-3 --strands 20 --guides-cache " + quoted(cache) +
+                             " --out " + quoted(out.string() + "/h.####.usda");
+  auto damage = [&](const std::string &what, const std::function<void()> &make, const std::string &message) {
+    INFO(what);
+    fs::remove_all(frame2);
+    make();
+    require_rejected(regrow, message, scratch, out);
+  };
+  damage("truncated", [&] { std::ofstream(frame2, std::ios::binary) << good.substr(0, good.size() / 2); }, "c.0002.hair");
+  damage("empty", [&] { std::ofstream(frame2, std::ios::binary); }, "c.0002.hair");
+  damage("other strands", [&] {
+    run_plume_bounded("regrow " + quoted(groom) + " --frames 2 --strands 5 --out " + quoted(frame2), scratch);
+  }, "c.0002.hair: guide cache: expected 228 guides");
+  damage("a NaN", [&] { fs::copy_file(PLUME_TEST_DATA "/bad/hair_nan.hair", frame2); }, "c.0002.hair");
+  damage("a directory", [&] { fs::create_directories(frame2); }, "c.0002.hair");
+  fs::remove_all(frame2);
+  std::ofstream(frame2, std::ios::binary) << good;
+  run = run_plume_bounded(regrow, scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(files_in(out).size() == 3);
+}
+
+TEST_CASE("every needed frame of an emitter sequence is checked before the first file is written", "[cli]") {
+  ScratchDir scratch("sequence_frames");
+  // A unit square (two triangles) with two upright guides; the sequence lifts it frame by frame.
+  auto square = [](float y, const std::string &extra = "") {
+    const std::string h = std::to_string(y);
+    return "v 0 " + h + " 0\nv 1 " + h + " 0\nv 1 " + h + " 1\nv 0 " + h + " 1\n" + extra + "f 1 2 3\nf 1 3 4\n";
+  };
+  std::ofstream(scratch / "plane.obj") << square(0.0f);
+  std::ofstream(scratch / "guides.obj") << "v 0.2 0 0.2\nv 0.2 0.5 0.2\nv 0.2 1 0.2\nl 1 2\nl 2 3\n"
+                                           "v 0.8 0 0.8\nv 0.8 0.5 0.8\nv 0.8 1 0.8\nl 4 5\nl 5 6\n";
+  const std::string head = "plume: 1\nemitter: {mesh: plane.obj, animation: {sequence: anim/a.####.obj}}\n"
+                           "guides: {file: guides.obj}\nroots: {count: 20}\nstrands: {points: 4}\n";
+  std::ofstream(scratch / "seq.groom.yaml") << head;
+  std::ofstream(scratch / "dyn.groom.yaml") << head << "dynamics: {substeps: 1}\noutput: {frames: 1-3}\n";
+  fs::create_directories(scratch / "anim");
+  auto write_frames = [&] {
+    for (int f = 1; f <= 3; ++f) std::ofstream(scratch / ("anim/a.000" + std::to_string(f) + ".obj")) << square(0.1f * f);
+  };
+  const fs::path out = scratch.path / "out";
+  const std::string regrow = "regrow " + quoted(scratch / "seq.groom.yaml") + " --frames 1-3 --out " +
+                             quoted(out.string() + "/h.####.hair");
+  struct Case {
+    std::string what, frame2, message;
+  };
+  const std::vector<Case> cases = {
+      {"a NaN vertex", "v nan 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 2 3\nf 1 3 4\n", "a.0002.obj"},
+      {"other triangles", "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 2 4\nf 2 3 4\n", "a.0002.obj"},
+      {"a vertex fewer", "v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 2 3\n", "a.0002.obj"},
+      {"collapsed to a point", "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\nf 1 3 4\n", "a.0002.obj"},
+  };
+  for (const Case &c : cases) {
+    INFO(c.what);
+    write_frames();
+    std::ofstream(scratch / "anim/a.0002.obj") << c.frame2;
+    require_rejected(regrow, c.message, scratch, out);
+  }
+  write_frames();
+  fs::remove(scratch / "anim/a.0003.obj");
+  require_rejected(regrow, "a.0003.obj does not exist", scratch, out);
+  // With dynamics the simulation poses the emitter from the groom's first frame: regrowing frames
+  // 2-3 needs frame 1 too.
+  write_frames();
+  fs::remove(scratch / "anim/a.0001.obj");
+  require_rejected("regrow " + quoted(scratch / "dyn.groom.yaml") + " --frames 2-3 --out " +
+                       quoted(out.string() + "/d.####.hair"),
+                   "a.0001.obj does not exist", scratch, out);
+  write_frames();
+  const RunResult run = run_plume_bounded(regrow, scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(files_in(out).size() == 3);
 }

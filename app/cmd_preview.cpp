@@ -49,7 +49,7 @@ void add_preview_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("groom", args->groom, "Groom file (.yaml)")->required();
   cmd->add_option("--frame", args->frame, "Frame to render (default 1)")->check(CLI::Range(-kMaxFrame, kMaxFrame));
   cmd->add_option("--out", args->out, "Output PNG (a #### field is replaced by the frame)")->required();
-  cmd->add_option("--size", args->size, "Image size in pixels (square, default 800)")->check(CLI::Range(16, 8192));
+  add_preview_size_option(*cmd, "--size", args->size, "Image size in pixels (square, default 800)");
   cmd->add_flag("--guides", args->guides, "Draw the guides over the strands in a bright colour");
   add_threads_option(*cmd, args->threads, "Worker threads");
   add_strands_option(*cmd, args->strands, "Override the groom's root count");

@@ -40,6 +40,7 @@ void run_regrow(const RegrowArgs &args) {
                                  args.preview.empty() ? groom.source + ": output.preview" : "--preview");
   check_output_locations(out, range, out_what);
   previews.check_locations(range);
+  const int preview_size = preview_size_of(args.preview_size, groom);
   set_thread_count(args.threads);
 
   PipelineOptions options;
@@ -54,7 +55,7 @@ void run_regrow(const RegrowArgs &args) {
   write_options.fps = groom.dynamics.fps;
   write_options.comment = "plume regrow of " + groom.source;
   PreviewStyle style;
-  style.size = args.preview_size > 0 ? args.preview_size : groom.output.preview_size;
+  style.size = preview_size;
   const PreviewCamera camera = groom_camera(pipeline);
   const std::vector<bool> scalp = groom_scalp(pipeline);
 
@@ -87,8 +88,7 @@ void add_regrow_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--preview-every", args->preview_every,
                   "Write a preview every N frames of the range (0: first frame only)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--preview-size", args->preview_size, "Preview size in pixels (default 800)")
-      ->check(CLI::Range(16, 8192));
+  add_preview_size_option(*cmd, "--preview-size", args->preview_size, "Preview size in pixels (default 800)");
   cmd->add_flag("--preview-guides", args->preview_guides, "Draw the guides over the strands in the previews");
   add_threads_option(*cmd, args->threads, "Worker threads (default: all cores; output does not depend on it)");
   add_strands_option(*cmd, args->strands, "Override the groom's root count (a proxy of the full groom)");

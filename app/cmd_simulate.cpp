@@ -37,6 +37,7 @@ void run_simulate(const SimulateArgs &args) {
   const PreviewSchedule previews(args.preview, args.preview_every, range, "--preview");
   check_output_locations(cache, range, cache_what);
   previews.check_locations(range);
+  const int preview_size = preview_size_of(args.preview_size, groom);
   set_thread_count(args.threads);
 
   PipelineOptions options;
@@ -45,7 +46,7 @@ void run_simulate(const SimulateArgs &args) {
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(range);
   PreviewStyle style;
-  style.size = args.preview_size > 0 ? args.preview_size : groom.output.preview_size;
+  style.size = preview_size;
   const PreviewCamera camera = groom_camera(pipeline);
   const StrandSet no_strands;
 
@@ -74,8 +75,7 @@ void add_simulate_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--preview", args->preview, "PNG pattern showing the guides, e.g. out/guides.####.png");
   cmd->add_option("--preview-every", args->preview_every, "Write a preview every N frames (0: first frame only)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--preview-size", args->preview_size, "Preview size in pixels (default 800)")
-      ->check(CLI::Range(16, 8192));
+  add_preview_size_option(*cmd, "--preview-size", args->preview_size, "Preview size in pixels (default 800)");
   add_threads_option(*cmd, args->threads, "Worker threads (output does not depend on it)");
   cmd->callback([args, &r_exit_code] {
     run_simulate(*args);

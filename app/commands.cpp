@@ -40,6 +40,21 @@ CLI::Validator finite_non_negative() {
       "FINITE>=0");
 }
 
+int preview_size_of(int option, const GroomDesc &groom) {
+  if (option > 0) return option;
+  const int size = groom.output.preview_size;
+  if (size > kMaxPreviewSize) {
+    const FileLoc loc = groom.output.loc.file.empty() ? FileLoc{groom.source} : groom.output.loc;
+    throw InputError(loc, "output.preview_size: expected a whole number in [16, " + std::to_string(kMaxPreviewSize) +
+                              "] (the picture is held whole in memory), got " + std::to_string(size));
+  }
+  return size;
+}
+
+void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description) {
+  cmd.add_option(name, r_size, description)->check(CLI::Range(16, kMaxPreviewSize));
+}
+
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {
   if (!option.empty()) return parse_frame_range(option, "--frames");
   if (!groom.output.frames.empty()) return parse_frame_range(groom.output.frames, groom.source + ": output.frames");

@@ -72,6 +72,11 @@ class PreviewSchedule {
   int every_;
   bool sequence_;  // the pattern has a frame field
 };
+/// The preview size: `option` when > 0 (the command line checks its range), else the groom's
+/// output.preview_size, which must be at most kMaxPreviewSize (InputError naming the key otherwise).
+int preview_size_of(int option, const GroomDesc &groom);
+/// Adds a preview size option `name` in [16, kMaxPreviewSize] to `cmd`.
+void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description);
 /// Lower-case extension with its dot (".usda"), empty when there is none.
 std::string extension_of(const std::string &path);
 /// The preview camera of a groom: fitted to the rest emitter and the rest guides, so that every

@@ -41,19 +41,26 @@ struct Projector {
   }
 };
 
+// A band of rows y_begin .. y_end() - 1 of the square raster of `size` x `size` pixels.
 struct Raster {
   int size = 0;
-  std::vector<Eigen::Vector3f> color;  // linear RGB
+  int y_begin = 0;
+  int rows = 0;
+  std::vector<Eigen::Vector3f> color;  // linear RGB, rows * size
   std::vector<float> depth;            // view depth, +inf where empty
 
-  Raster(int size_, const PreviewStyle &style) : size(size_), color(size_t(size_) * size_), depth(size_t(size_) * size_) {
+  Raster(int size_, int y_begin_, int rows_, const PreviewStyle &style)
+      : size(size_), y_begin(y_begin_), rows(rows_), color(size_t(rows_) * size_), depth(size_t(rows_) * size_) {
     std::fill(depth.begin(), depth.end(), std::numeric_limits<float>::infinity());
-    for (int y = 0; y < size; ++y) {
+    for (int y = y_begin; y < y_end(); ++y) {
       const float a = float(y) / float(std::max(size - 1, 1));
       const Eigen::Vector3f c = (1.0f - a) * style.background_top + a * style.background_bottom;
-      std::fill(color.begin() + size_t(y) * size, color.begin() + size_t(y + 1) * size, c);
+      std::fill(color.begin() + index(0, y), color.begin() + index(0, y + 1), c);
     }
   }
+  int y_end() const { return y_begin + rows; }
+  /// The pixel (x, y) of the whole raster, y in [y_begin, y_end()].
+  size_t index(int x, int y) const { return size_t(y - y_begin) * size_t(size) + size_t(x); }
 };
 
 // Lights are fixed relative to the camera so every view is lit the same way: a key light from the
@@ -67,11 +74,11 @@ struct Lights {
   }
 };
 
-void draw_mesh(const Mesh &mesh, const Projector &proj, const Lights &lights, const PreviewStyle &style,
-               const std::vector<bool> &scalp_triangles, Raster &r_raster) {
+// `screen`: proj.project() of every mesh vertex.
+void draw_mesh(const Mesh &mesh, const std::vector<Eigen::Vector3f> &screen, const Projector &proj,
+               const Lights &lights, const PreviewStyle &style, const std::vector<bool> &scalp_triangles,
+               Raster &r_raster) {
   const Eigen::Vector3f scalp_color = 0.5f * style.hair_color;
-  std::vector<Eigen::Vector3f> screen(mesh.vertex_count());
-  for (size_t v = 0; v < mesh.vertex_count(); ++v) screen[v] = proj.project(mesh.positions[v]);
   const int size = r_raster.size;
   for (size_t f = 0; f < mesh.triangle_count(); ++f) {
     const Eigen::Vector3i &tri = mesh.triangles[f];
@@ -81,8 +88,10 @@ void draw_mesh(const Mesh &mesh, const Projector &proj, const Lights &lights, co
     if (std::abs(area) < 1e-12f) continue;
     const int x0 = std::max(0, int(std::floor(std::min({a.x(), b.x(), c.x()}))));
     const int x1 = std::min(size - 1, int(std::ceil(std::max({a.x(), b.x(), c.x()}))));
-    const int y0 = std::max(0, int(std::floor(std::min({a.y(), b.y(), c.y()}))));
-    const int y1 = std::min(size - 1, int(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+    const float y_min = std::min({a.y(), b.y(), c.y()}), y_max = std::max({a.y(), b.y(), c.y()});
+    if (y_max < float(r_raster.y_begin) - 1.0f || y_min > float(r_raster.y_end()) + 1.0f) continue;
+    const int y0 = std::max(r_raster.y_begin, int(std::floor(y_min)));
+    const int y1 = std::min(r_raster.y_end() - 1, int(std::ceil(y_max)));
     const Eigen::Vector3f inv_z(1.0f / a.z(), 1.0f / b.z(), 1.0f / c.z());
     const bool scalp = !scalp_triangles.empty() && scalp_triangles[f];
     const Eigen::Vector3f &albedo = scalp ? scalp_color : style.skin_color;
@@ -98,7 +107,7 @@ void draw_mesh(const Mesh &mesh, const Projector &proj, const Lights &lights, co
         const Eigen::Vector3f pw(w0 * inv_z[0], w1 * inv_z[1], w2 * inv_z[2]);
         const float sum = pw.sum();
         const float z = 1.0f / sum;
-        const size_t pixel = size_t(y) * size + x;
+        const size_t pixel = r_raster.index(x, y);
         if (!(z < r_raster.depth[pixel])) continue;
         r_raster.depth[pixel] = z;
         const Eigen::Vector3f bary = pw / sum;
@@ -140,11 +149,13 @@ Eigen::Vector3f shade_hair(const Eigen::Vector3f &tangent, const Eigen::Vector3f
   return occlusion * (diffuse + specular);
 }
 
-// Draws every segment of `strands` as a line of `brush` x `brush` raster pixels, depth-tested.
-// Lines are stepped one pixel at a time along their major axis; depth is 1/z-interpolated.
+// Draws every segment of `strands` as a line of `brush` x `brush` raster pixels, depth-tested,
+// within the rows of `r_raster`. Lines are stepped one pixel at a time along their major axis;
+// depth is 1/z-interpolated. Only the steps whose brush can reach the band's rows are visited.
 void draw_strands(const StrandSet &strands, const Projector &proj, const Lights &lights,
                   const Eigen::Vector3f &color, bool vary_per_strand, int brush, Raster &r_raster) {
   const int size = r_raster.size;
+  const int y_begin = r_raster.y_begin, y_end = r_raster.y_end();
   for (size_t s = 0; s < strands.strand_count(); ++s) {
     const auto points = strands.points(s);
     if (points.size() < 2) continue;
@@ -159,6 +170,26 @@ void draw_strands(const StrandSet &strands, const Projector &proj, const Lights 
     for (size_t i = 0; i + 1 < points.size(); ++i) {
       const Eigen::Vector3f d = points[i + 1] - points[i];
       if (d.squaredNorm() == 0.0f) continue;
+      const Eigen::Vector3f a = proj.project(points[i]);
+      const Eigen::Vector3f b = proj.project(points[i + 1]);
+      if (a.z() <= proj.near || b.z() <= proj.near) continue;
+      const float dx = b.x() - a.x(), dy = b.y() - a.y();
+      const int steps = std::max(1, int(std::ceil(std::max(std::abs(dx), std::abs(dy)))));
+      // Step k covers rows floor(y_k) - brush / 2 + [0, brush) with y_k = a.y + (k / steps) dy: it
+      // reaches the band when y_k lies in [lo, hi) below; one row and one step of margin absorb rounding.
+      const double lo = double(y_begin) - brush + brush / 2 - 1.0;
+      const double hi = double(y_end) + brush / 2 + 1.0;
+      int k_first = 0, k_last = steps;
+      if (dy == 0.0f) {
+        if (a.y() < lo || a.y() >= hi) continue;
+      } else {
+        const double t0 = (lo - a.y()) / dy, t1 = (hi - a.y()) / dy;
+        const double k0 = std::floor(std::min(t0, t1) * steps) - 1.0;
+        const double k1 = std::ceil(std::max(t0, t1) * steps) + 1.0;
+        if (k1 < 0.0 || k0 > double(steps)) continue;
+        k_first = int(std::max(k0, 0.0));
+        k_last = int(std::min(k1, double(steps)));
+      }
       const Eigen::Vector3f tangent = d.normalized();
       const Eigen::Vector3f mid = 0.5f * (points[i] + points[i + 1]);
       const Eigen::Vector3f view = (proj.eye - mid).normalized();
@@ -166,22 +197,17 @@ void draw_strands(const StrandSet &strands, const Projector &proj, const Lights 
       const float along = (float(i) + 0.5f) / segment_count;
       const float occlusion = vary_per_strand ? 0.3f + 0.7f * std::min(1.0f, along / 0.35f) : 1.0f;
       const Eigen::Vector3f c = shade_hair(tangent, view, lights, base, occlusion);
-      const Eigen::Vector3f a = proj.project(points[i]);
-      const Eigen::Vector3f b = proj.project(points[i + 1]);
-      if (a.z() <= proj.near || b.z() <= proj.near) continue;
-      const float dx = b.x() - a.x(), dy = b.y() - a.y();
-      const int steps = std::max(1, int(std::ceil(std::max(std::abs(dx), std::abs(dy)))));
       const float inv_za = 1.0f / a.z(), inv_zb = 1.0f / b.z();
-      for (int k = 0; k <= steps; ++k) {
+      for (int k = k_first; k <= k_last; ++k) {
         const float t = float(k) / float(steps);
         const int x = int(std::floor(a.x() + t * dx)) - brush / 2;
         const int y = int(std::floor(a.y() + t * dy)) - brush / 2;
         const float z = 1.0f / (inv_za + t * (inv_zb - inv_za));
         for (int by = y; by < y + brush; ++by) {
-          if (by < 0 || by >= size) continue;
+          if (by < y_begin || by >= y_end) continue;
           for (int bx = x; bx < x + brush; ++bx) {
             if (bx < 0 || bx >= size) continue;
-            const size_t pixel = size_t(by) * size + bx;
+            const size_t pixel = r_raster.index(bx, by);
             if (!(z < r_raster.depth[pixel])) continue;
             r_raster.depth[pixel] = z;
             r_raster.color[pixel] = c;
@@ -257,23 +283,34 @@ Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const Strand
   const int raster_size = style.size * ss;
   const Projector proj(camera, raster_size);
   const Lights lights(proj);
-  Raster raster(raster_size, style);
-  draw_mesh(mesh, proj, lights, style, scalp_triangles, raster);
-  draw_strands(strands, proj, lights, style.hair_color, true, std::max(1, style.strand_brush), raster);
-  if (guides) draw_strands(*guides, proj, lights, style.guide_color, false, ss, raster);
+  std::vector<Eigen::Vector3f> screen(mesh.vertex_count());
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) screen[v] = proj.project(mesh.positions[v]);
 
   Image image;
   image.width = image.height = style.size;
   image.rgb.resize(size_t(style.size) * style.size * 3);
+  // The supersampled raster (16 bytes a sample, ss^2 samples a pixel: 9.7 GB at 8192 pixels) is
+  // drawn in bands of whole image rows of at most kPreviewBandBytes each. Every sample lies in one
+  // band and receives there the same writes in the same order as in a single pass, so the picture
+  // does not depend on the banding.
+  const size_t row_bytes = size_t(ss) * size_t(raster_size) * (sizeof(Eigen::Vector3f) + sizeof(float));
+  const int band_rows = int(std::clamp<size_t>(kPreviewBandBytes / row_bytes, 1, size_t(style.size)));
   const float norm = 1.0f / float(ss * ss);
-  for (int y = 0; y < style.size; ++y) {
-    for (int x = 0; x < style.size; ++x) {
-      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-      for (int sy = 0; sy < ss; ++sy)
-        for (int sx = 0; sx < ss; ++sx) sum += raster.color[size_t(y * ss + sy) * raster_size + (x * ss + sx)];
-      sum *= norm;
-      uint8_t *out = &image.rgb[(size_t(y) * style.size + x) * 3];
-      for (int k = 0; k < 3; ++k) out[k] = encode(sum[k]);
+  for (int band_first = 0; band_first < style.size; band_first += band_rows) {
+    const int rows = std::min(band_rows, style.size - band_first);
+    Raster raster(raster_size, band_first * ss, rows * ss, style);
+    draw_mesh(mesh, screen, proj, lights, style, scalp_triangles, raster);
+    draw_strands(strands, proj, lights, style.hair_color, true, std::max(1, style.strand_brush), raster);
+    if (guides) draw_strands(*guides, proj, lights, style.guide_color, false, ss, raster);
+    for (int y = band_first; y < band_first + rows; ++y) {
+      for (int x = 0; x < style.size; ++x) {
+        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+        for (int sy = 0; sy < ss; ++sy)
+          for (int sx = 0; sx < ss; ++sx) sum += raster.color[raster.index(x * ss + sx, y * ss + sy)];
+        sum *= norm;
+        uint8_t *out = &image.rgb[(size_t(y) * style.size + x) * 3];
+        for (int k = 0; k < 3; ++k) out[k] = encode(sum[k]);
+      }
     }
   }
   return image;

@@ -61,10 +61,14 @@ inline RunResult run_plume(const std::string &args, const ScratchDir &scratch) {
   return run_plume_command(quoted(PLUME_BINARY) + " " + args, scratch);
 }
 
-/// run_plume() under a 2 GB address-space limit and a 60 s timeout, for inputs that once made plume
-/// allocate without bound or loop: a regression then fails (exit 1 or 124) instead of taking the machine.
-inline RunResult run_plume_bounded(const std::string &args, const ScratchDir &scratch) {
-  return run_plume_command("ulimit -v 2000000; exec timeout 60 " + quoted(PLUME_BINARY) + " " + args, scratch);
+/// run_plume() under an address-space limit (KiB, default 2 GB) and a 60 s timeout, for inputs that
+/// once made plume allocate without bound or loop: a regression then fails (exit 1 or 124) instead
+/// of taking the machine.
+inline RunResult run_plume_bounded(const std::string &args, const ScratchDir &scratch,
+                                   long long address_space_kib = 2000000) {
+  return run_plume_command("ulimit -v " + std::to_string(address_space_kib) + "; exec timeout 60 " +
+                               quoted(PLUME_BINARY) + " " + args,
+                           scratch);
 }
 
 /// Every regular file below `dir` (recursively), sorted.

@@ -271,3 +271,34 @@ TEST_CASE("every needed frame of an emitter sequence is checked before the first
   CHECK(run.exit_code == 0);
   CHECK(files_in(out).size() == 3);
 }
+
+TEST_CASE("a preview is drawn in bands: a 2048-pixel picture fits in 400 MB of address space", "[cli]") {
+  // At 3x supersampling the whole raster of a 2048-pixel picture would take 600 MB.
+  ScratchDir scratch("preview_memory");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  const RunResult run = run_plume_bounded("preview " + quoted(groom) + " --strands 300 --guides --size 2048 --out " +
+                                              quoted(scratch / "p.png"),
+                                          scratch, 400000);
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(read_text(scratch / "p.png").find("PNG") == 1);
+}
+
+TEST_CASE("preview sizes are bounded alike on the command line and in the groom file", "[cli]") {
+  ScratchDir scratch("preview_size");
+  const fs::path out = scratch.path / "out";
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  require_rejected("preview " + quoted(groom) + " --size 8193 --out " + quoted(out.string() + "/p.png"), "--size",
+                   scratch, out);
+  require_rejected("regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda") + " --preview " +
+                       quoted(out.string() + "/p.png") + " --preview-size 8193",
+                   "--preview-size", scratch, out);
+  const std::string big = write_sintel_groom(
+      scratch, "big", "output: {path: " + out.string() + "/h.####.usda, preview: " + out.string() +
+                          "/p.####.png, preview_size: 16384}\n");
+  require_rejected("regrow " + quoted(big) + " --frames 1-2 --strands 20", "output.preview_size", scratch, out);
+  const std::string dyn = write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\noutput: {preview_size: 16384}\n");
+  require_rejected("simulate " + quoted(dyn) + " --frames 1 --cache " + quoted(out.string() + "/c.#.hair") +
+                       " --preview " + quoted(out.string() + "/g.png"),
+                   "output.preview_size", scratch, out);
+}

@@ -26,9 +26,9 @@ inline constexpr int kExitViolations = 3;
 
 /// The most worker threads `--threads` accepts. libgomp starts one OS thread per requested thread,
 /// each with its own stack; tens of thousands of them exceed the system's thread and mapping limits
-/// (libgomp then fails or crashes). 1024 is twice the hardware threads of the largest two-socket
-/// nodes (2 x 128 cores x 2), and more threads than cores only add overhead: results do not
-/// depend on the count.
+/// (libgomp then fails or crashes). 1024 is above the hardware threads of today's largest
+/// two-socket nodes (2 x 192 cores x 2 = 768), and more threads than cores only add overhead:
+/// results do not depend on the count.
 inline constexpr int kMaxThreads = 1024;
 
 // Shared by the commands.

@@ -25,7 +25,7 @@ void run_preview(const PreviewArgs &args) {
   const GroomDesc groom = io::read_groom_file(args.groom);
   const FrameRange single{args.frame, args.frame, 1};
   check_output_pattern(args.out, single, "--out", {".png"});
-  check_output_locations(args.out, single, "--out");
+  check_output_locations(args.out, single, "--out", RunInputs(groom, args.guides_cache));
   set_thread_count(args.threads);
   PipelineOptions options;
   options.strand_count = args.strands;

@@ -38,8 +38,9 @@ void run_regrow(const RegrowArgs &args) {
   const PreviewSchedule previews(args.preview.empty() ? groom.output.preview_pattern : args.preview,
                                  args.preview_every >= 0 ? args.preview_every : groom.output.preview_every, range,
                                  args.preview.empty() ? groom.source + ": output.preview" : "--preview");
-  check_output_locations(out, range, out_what);
-  previews.check_locations(range);
+  const RunInputs inputs(groom, args.guides_cache);
+  check_output_locations(out, range, out_what, inputs);
+  previews.check_locations(range, inputs);
   const int preview_size = preview_size_of(args.preview_size, groom);
   set_thread_count(args.threads);
 

@@ -35,8 +35,9 @@ void run_simulate(const SimulateArgs &args) {
   const std::string cache_what = args.cache.empty() ? groom.source + ": dynamics.cache" : "--cache";
   check_output_pattern(cache, range, cache_what, {".hair", ".usda", ".ply", ".obj"});
   const PreviewSchedule previews(args.preview, args.preview_every, range, "--preview");
-  check_output_locations(cache, range, cache_what);
-  previews.check_locations(range);
+  const RunInputs inputs(groom, {});
+  check_output_locations(cache, range, cache_what, inputs);
+  previews.check_locations(range, inputs);
   const int preview_size = preview_size_of(args.preview_size, groom);
   set_thread_count(args.threads);
 

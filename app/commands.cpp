@@ -1,6 +1,7 @@
 #include "app/commands.h"
 
 #include <omp.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -40,16 +41,7 @@ CLI::Validator finite_non_negative() {
       "FINITE>=0");
 }
 
-int preview_size_of(int option, const GroomDesc &groom) {
-  if (option > 0) return option;
-  const int size = groom.output.preview_size;
-  if (size > kMaxPreviewSize) {
-    const FileLoc loc = groom.output.loc.file.empty() ? FileLoc{groom.source} : groom.output.loc;
-    throw InputError(loc, "output.preview_size: expected a whole number in [16, " + std::to_string(kMaxPreviewSize) +
-                              "] (the picture is held whole in memory), got " + std::to_string(size));
-  }
-  return size;
-}
+int preview_size_of(int option, const GroomDesc &groom) { return option > 0 ? option : groom.output.preview_size; }
 
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description) {
   cmd.add_option(name, r_size, description)->check(CLI::Range(16, kMaxPreviewSize));
@@ -86,16 +78,64 @@ std::string PreviewSchedule::path_at(int64_t i, int frame) const {
 
 namespace {
 
+/// Device and inode of an existing file, false when `path` names none.
+bool file_identity(const std::string &path, uintmax_t &r_device, uintmax_t &r_inode) {
+  struct stat status;
+  if (::stat(path.c_str(), &status) != 0) return false;
+  r_device = uintmax_t(status.st_dev);
+  r_inode = uintmax_t(status.st_ino);
+  return true;
+}
+
+}  // namespace
+
+RunInputs::RunInputs(const GroomDesc &groom, const std::string &guides_cache)
+    : guides_cache_(groom.dynamics.enabled ? guides_cache : std::string()) {
+  if (groom.animation.kind == EmitterAnimation::Kind::obj_sequence) sequence_pattern_ = groom.animation.sequence_pattern;
+  auto add = [&](const std::string &path, const std::string &what) {
+    File file{0, 0, what};
+    if (!path.empty() && file_identity(path, file.device, file.inode)) files_.push_back(file);
+  };
+  add(groom.source, "the groom file");
+  add(groom.emitter_path, "the groom's emitter.mesh");
+  add(groom.guides_path, "the groom's guides.file");
+  add(groom.roots.file, "the groom's roots.file");
+  add(groom.partings.zone_map_path, "the groom's zone map");
+  for (const EffectDesc &effect : groom.effects) add(effect.vertex_map_path, "an effect's vertex map");
+}
+
+std::string RunInputs::input_at(const std::string &path, int frame) const {
+  uintmax_t device = 0, inode = 0;
+  if (!file_identity(path, device, inode)) return {};
+  for (const File &file : files_)
+    if (file.device == device && file.inode == inode) return file.what;
+  auto same = [&](const std::string &pattern) {
+    uintmax_t other_device = 0, other_inode = 0;
+    return !pattern.empty() && file_identity(expand_frame_pattern(pattern, frame), other_device, other_inode) &&
+           other_device == device && other_inode == inode;
+  };
+  if (same(sequence_pattern_)) return "the emitter sequence's mesh of frame " + std::to_string(frame);
+  if (same(guides_cache_)) return "the --guides-cache file of frame " + std::to_string(frame);
+  return {};
+}
+
+namespace {
+
 // check_output_locations() for the frames frame_at(0) .. frame_at(count - 1).
 template <typename FrameAt>
-void check_locations_of(const std::string &pattern, int64_t count, const FrameAt &frame_at, const std::string &what) {
+void check_locations_of(const std::string &pattern, int64_t count, const FrameAt &frame_at, const std::string &what,
+                        const RunInputs &inputs) {
   namespace fs = std::filesystem;
   fs::path checked_folder;
   for (int64_t i = 0; i < count; ++i) {
-    const fs::path path = expand_frame_pattern(pattern, frame_at(i));
+    const int frame = frame_at(i);
+    const fs::path path = expand_frame_pattern(pattern, frame);
     std::error_code error;
     if (fs::is_directory(path, error))
       throw InputError(what + ": " + path.string() + " is an existing directory, expected a file name");
+    const std::string input = inputs.input_at(path.string(), frame);
+    if (!input.empty())
+      throw InputError(what + ": " + path.string() + " is " + input + ", which this run reads: choose another output");
     const fs::path folder = path.parent_path();
     if (i > 0 && folder == checked_folder) continue;
     // The nearest existing ancestor must be a directory one may write in: the writer creates the rest.
@@ -116,16 +156,17 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
 
 }  // namespace
 
-void check_output_locations(const std::string &pattern, const FrameRange &range, const std::string &what) {
-  check_locations_of(pattern, range.count(), [&](int64_t i) { return range.at(i); }, what);
+void check_output_locations(const std::string &pattern, const FrameRange &range, const std::string &what,
+                            const RunInputs &inputs) {
+  check_locations_of(pattern, range.count(), [&](int64_t i) { return range.at(i); }, what, inputs);
 }
 
-void PreviewSchedule::check_locations(const FrameRange &range) const {
+void PreviewSchedule::check_locations(const FrameRange &range, const RunInputs &inputs) const {
   if (pattern_.empty()) return;
   // The due frames are the i-th of the range for i = 0, every_, 2 every_, ... (path_at()).
   const int64_t stride = every_ > 0 && sequence_ ? every_ : range.count();
   const int64_t due_count = (range.count() - 1) / stride + 1;
-  check_locations_of(pattern_, due_count, [&](int64_t k) { return range.at(k * stride); }, what_);
+  check_locations_of(pattern_, due_count, [&](int64_t k) { return range.at(k * stride); }, what_, inputs);
 }
 
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,

@@ -49,11 +49,32 @@ int groom_first_frame(const GroomDesc &groom);
 /// check_frame_pattern(), and the pattern is not empty and ends with one of `extensions`.
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
                           const std::vector<std::string> &extensions);
+/// The files a run reads: the groom file, the files it names (emitter mesh, guides, roots, zone map,
+/// effect maps) and, per frame, the emitter sequence's mesh and the guide cache's file. An output
+/// must never be one of them (a typo in --out must not overwrite a groom's guides).
+class RunInputs {
+ public:
+  /// `guides_cache`: the --guides-cache pattern, or empty.
+  RunInputs(const GroomDesc &groom, const std::string &guides_cache);
+  /// Which input the existing file `path` is (the same file, by device and inode, as one read at
+  /// frame `frame`), described for a message; empty when it is none or does not exist.
+  std::string input_at(const std::string &path, int frame) const;
+
+ private:
+  struct File {
+    uintmax_t device, inode;
+    std::string what;
+  };
+  std::vector<File> files_;
+  std::string sequence_pattern_, guides_cache_;
+};
 /// Throws InputError naming `what` unless every file `pattern` names for `range` can be written: no
-/// target is an existing directory, and each target's folder exists as a writable directory or can
-/// be created (its nearest existing ancestor is one). Called before the first write of a run, so
-/// that a bad location exits with 2 before any output exists. Walks the range without listing it.
-void check_output_locations(const std::string &pattern, const FrameRange &range, const std::string &what);
+/// target is an existing directory or one of the run's `inputs`, and each target's folder exists as
+/// a writable directory or can be created (its nearest existing ancestor is one). Called before the
+/// first write of a run, so that a bad location exits with 2 before any output exists. Walks the
+/// range without listing it.
+void check_output_locations(const std::string &pattern, const FrameRange &range, const std::string &what,
+                            const RunInputs &inputs);
 /// Which frames of a range get a preview PNG, and where: every `every`-th frame of the range
 /// (0: the first only), and only the first when the pattern has no frame field.
 class PreviewSchedule {
@@ -64,7 +85,7 @@ class PreviewSchedule {
   /// The preview path of frame `frame`, the i-th of the range, or empty when none is due.
   std::string path_at(int64_t i, int frame) const;
   /// check_output_locations() for the previews due in `range` (the range given to the constructor).
-  void check_locations(const FrameRange &range) const;
+  void check_locations(const FrameRange &range, const RunInputs &inputs) const;
 
  private:
   std::string what_;
@@ -72,8 +93,8 @@ class PreviewSchedule {
   int every_;
   bool sequence_;  // the pattern has a frame field
 };
-/// The preview size: `option` when > 0 (the command line checks its range), else the groom's
-/// output.preview_size, which must be at most kMaxPreviewSize (InputError naming the key otherwise).
+/// The preview size: `option` when > 0, else the groom's output.preview_size (both checked to lie in
+/// [16, kMaxPreviewSize] where they are read).
 int preview_size_of(int option, const GroomDesc &groom);
 /// Adds a preview size option `name` in [16, kMaxPreviewSize] to `cmd`.
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description);

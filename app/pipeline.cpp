@@ -8,6 +8,7 @@
 #include "app/frame_range.h"
 #include "dynamics/guide_simulator.h"
 #include "groom/error.h"
+#include "groom/limits.h"
 #include "groom/mesh_query.h"
 #include "interp/effects.h"
 #include "interp/interpolate.h"
@@ -85,7 +86,27 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
   }
   if (count <= 0 && count_override < 0)
     throw InputError(settings.loc, "roots: the groom gives no roots (count 0, or density x area < 1)");
-  return scatter_roots(rest_mesh, count, settings.seed, mask);
+  return scatter_roots(rest_mesh, count, settings.seed, mask, settings.loc);
+}
+
+/// A rigidly posed vertex is pivot + translate + R scale (p - pivot), with translate and scale
+/// between two keys' and R a rotation, so it lies within |pivot| + max over keys of (|translate| +
+/// scale max_p |p - pivot|) of the origin. Throws InputError at the animation unless that stays
+/// within the scene bound (groom/limits.h) at every key: then every frame's posed emitter does.
+void check_rigid_keys(const EmitterAnimation &animation, const Mesh &rest_mesh) {
+  if (animation.kind != EmitterAnimation::Kind::rigid) return;
+  double reach = 0.0;
+  for (const Eigen::Vector3f &p : rest_mesh.positions) reach = std::max(reach, double((p - animation.pivot).norm()));
+  for (const RigidKey &key : animation.keys) {
+    const double extent =
+        double(animation.pivot.norm()) + double(key.translate.norm()) + double(std::abs(key.scale)) * reach;
+    if (!(extent <= double(max_coordinate)))
+      throw InputError(animation.loc, "emitter.animation: the key at frame " + std::to_string(key.frame) +
+                                          " moves the emitter up to " + std::to_string(extent) +
+                                          " from the origin, beyond the scene bound " +
+                                          std::to_string(double(max_coordinate)) +
+                                          " (groom-format.md: coordinates and lengths)");
+  }
 }
 
 }  // namespace
@@ -124,6 +145,7 @@ Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
 
 Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom), options_(options) {
   rest_mesh_ = io::read_obj_mesh(groom_.emitter_path);
+  check_rigid_keys(groom_.animation, rest_mesh_);
   const MeshQuery rest_query(rest_mesh_);
   guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
   if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");
@@ -209,6 +231,10 @@ StrandSet Pipeline::read_cached_guides(int frame) const {
   if (!std::filesystem::exists(path))
     throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
   const StrandSet cached = io::read_strands(path);
+  for (size_t p = 0; p < cached.positions.size(); ++p)
+    if (!within_scene_bounds(cached.positions[p]))
+      throw InputError(FileLoc{path}, "guide cache: point " + std::to_string(p) + ": " +
+                                          out_of_bounds_message(cached.positions[p]));
   if (cached.offsets != guides_.strands.offsets)
     throw InputError(FileLoc{path}, "guide cache: expected " + std::to_string(guides_.size()) + " guides of " +
                                         "the groom's point counts, got " + std::to_string(cached.strand_count()) +

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "groom/groom_desc.h"
 #include "groom/mesh.h"
 #include "groom/strand_set.h"
 
@@ -29,9 +30,9 @@ PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3
                          const Eigen::Vector3f &front = Eigen::Vector3f::UnitZ(), float yaw_degrees = 35.0f,
                          float pitch_degrees = 10.0f);
 
-/// The largest preview, in pixels a side: the image (3 bytes a pixel, 201 MB) and its PNG are held
-/// whole, the supersampled raster is drawn in bands of kPreviewBandBytes.
-inline constexpr int kMaxPreviewSize = 8192;
+/// The largest preview, in pixels a side (groom_desc.h): the image and its PNG are held whole, the
+/// supersampled raster is drawn in bands of kPreviewBandBytes.
+inline constexpr int kMaxPreviewSize = max_preview_size;
 /// The most memory a band of the supersampled raster takes.
 inline constexpr size_t kPreviewBandBytes = size_t(64) << 20;
 

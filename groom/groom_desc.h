@@ -57,12 +57,15 @@ struct InterpolationSettings {
   FileLoc loc;
 };
 
+/// The largest preview, in pixels a side: its image (3 bytes a pixel, 201 MB) and PNG are held whole.
+inline constexpr int max_preview_size = 8192;
+
 struct OutputSettings {
   std::string path_pattern;    // e.g. out/hair.####.usda (absolute); empty: none
   std::string frames;          // e.g. "1-48" (empty: 1)
   std::string preview_pattern; // e.g. out/preview.####.png
   int preview_every = 0;       // write a preview every N frames (0: first frame only)
-  int preview_size = 800;
+  int preview_size = 800;     // [16, max_preview_size]
   FileLoc loc;
 };
 

@@ -186,9 +186,15 @@ class GroomReader {
     const std::string written = m.string(key);
     return check_existing(m, key, written, extensions);
   }
+  /// A path holds no NUL character (YAML's "\0"): the system would open the name cut at it.
+  void check_no_nul(YamlMap &m, const std::string &key, const std::string &written) {
+    if (written.find('\0') != std::string::npos)  // not echoed: the message would be cut at the NUL
+      throw InputError(node_loc(file_, m.node(key)), m.key_path(key) + ": expected a path without a NUL character (\\0)");
+  }
   std::string check_existing(YamlMap &m, const std::string &key, const std::string &written,
                              const std::vector<std::string> &extensions) {
     const YAML::Node node = m.node(key);
+    check_no_nul(m, key, written);
     const std::string path = absolute(written);
     if (!extensions.empty() &&
         std::find(extensions.begin(), extensions.end(), lower_extension(written)) == extensions.end())
@@ -209,6 +215,7 @@ class GroomReader {
     const std::string written = m.string(key, "");
     if (written.empty()) return written;
     const YAML::Node node = m.node(key);
+    check_no_nul(m, key, written);
     if (std::find(extensions.begin(), extensions.end(), lower_extension(written)) == extensions.end())
       fail_expected(file_, node, m.key_path(key), "a path ending in " + join(extensions, ", "));
     if (needs_frame && !has_frame_field(written))
@@ -282,6 +289,7 @@ void GroomReader::read_emitter(YamlMap &root, GroomDesc &groom) {
     if (anim.given("sequence")) {
       forbid(anim, "pivot", "with a sequence (pivot is for keys)");
       const std::string written = anim.string("sequence");
+      check_no_nul(anim, "sequence", written);
       if (lower_extension(written) != ".obj" || !has_frame_field(written))
         fail_expected(file_, anim.node("sequence"), anim.key_path("sequence"),
                       "an .obj path with a frame field (head.####.obj or head.%04d.obj)");
@@ -598,7 +606,7 @@ void GroomReader::read_output(YamlMap &root, GroomDesc &groom) {
     fail_expected(file_, out.node("frames"), out.key_path("frames"), "a frame range A, A-B or A-B:S (A <= B, S >= 1)");
   o.preview_pattern = output_pattern(out, "preview", {".png"}, false);
   o.preview_every = int(out.integer("preview_every", o.preview_every, 0, 1000000));
-  o.preview_size = int(out.integer("preview_size", o.preview_size, 16, 16384));
+  o.preview_size = int(out.integer("preview_size", o.preview_size, 16, max_preview_size));
   out.finish();
 }
 

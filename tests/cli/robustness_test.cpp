@@ -141,7 +141,7 @@ TEST_CASE("an output path holding a NUL character is rejected", "[cli]") {
   const RunResult run = run_plume_bounded("regrow " + quoted(groom) + " --frames 1-2 --strands 20", scratch);
   INFO(run.err);
   CHECK(run.exit_code == 2);
-  CHECK(run.err.find("output.path: a path cannot hold a NUL character") != std::string::npos);
+  CHECK(run.err.find("nul.groom.yaml:12:16: output.path: expected a path without a NUL character") != std::string::npos);
   CHECK(files_in(scratch.path / "out").empty());
 }
 
@@ -301,4 +301,124 @@ TEST_CASE("preview sizes are bounded alike on the command line and in the groom 
   require_rejected("simulate " + quoted(dyn) + " --frames 1 --cache " + quoted(out.string() + "/c.#.hair") +
                        " --preview " + quoted(out.string() + "/g.png"),
                    "output.preview_size", scratch, out);
+}
+
+TEST_CASE("an output that is one of the run's own inputs is refused, and the input is left as it was", "[cli]") {
+  ScratchDir scratch("inputs_kept");
+  const std::string guides = scratch / "guides.hair";
+  fs::copy_file(sintel_dir() + "/sintel_guides.hair", guides);
+  const std::string original = read_text(guides);
+  const std::string groom = write_sintel_groom(scratch, "g", "", guides);
+  const fs::path out = scratch.path / "out";
+  // A typo in --out must not overwrite the groom's guides.
+  RunResult run = run_plume_bounded("regrow " + quoted(groom) + " --frames 1 --strands 20 --out " + quoted(guides), scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("the groom's guides.file") != std::string::npos);
+  CHECK(read_text(guides) == original);
+  // Nor the guide cache that a regrow reads, frame for frame.
+  const std::string dyn = write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n", guides);
+  const std::string cache = scratch / "cache/c.####.hair";
+  run = run_plume_bounded("simulate " + quoted(dyn) + " --frames 1-2 --cache " + quoted(cache), scratch);
+  REQUIRE(run.exit_code == 0);
+  const std::string frame2 = read_text(scratch / "cache/c.0002.hair");
+  run = run_plume_bounded("regrow " + quoted(dyn) + " --frames 1-2 --strands 20 --guides-cache " + quoted(cache) +
+                              " --out " + quoted(cache),
+                          scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("the --guides-cache file of frame 1") != std::string::npos);
+  CHECK(read_text(scratch / "cache/c.0002.hair") == frame2);
+  // Nor the emitter mesh (a simulation cache may be written as .obj).
+  const std::string mesh = scratch / "head.obj";
+  fs::copy_file(sintel_dir() + "/sintel.obj", mesh);
+  const std::string on_copy = scratch / "on_copy.groom.yaml";
+  {
+    std::string text = read_text(dyn);
+    text.replace(text.find(sintel_dir() + "/sintel.obj"), (sintel_dir() + "/sintel.obj").size(), mesh);
+    std::ofstream(on_copy) << text;
+  }
+  const std::string mesh_text = read_text(mesh);
+  run = run_plume_bounded("simulate " + quoted(on_copy) + " --frames 1 --cache " + quoted(mesh), scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("the groom's emitter.mesh") != std::string::npos);
+  CHECK(read_text(mesh) == mesh_text);
+}
+
+TEST_CASE("a rigid key that carries the emitter beyond the scene bound is refused before anything is written",
+          "[cli]") {
+  ScratchDir scratch("rigid_bound");
+  const fs::path out = scratch.path / "out";
+  // Each number is within its key's range (translate 1e6, scale 100); together they carry the head
+  // (about 30 units from the pivot) past 1e6 from the origin.
+  const std::string far = scratch / "far.groom.yaml";
+  {
+    std::string text = read_text(write_sintel_groom(scratch, "g", ""));
+    const std::string key = "{frame: 5, rotate: [0, 30, 0], translate: [1, 0, 0]}";
+    text.replace(text.find(key), key.size(), "{frame: 5, translate: [999000, 0, 0], scale: 100}");
+    std::ofstream(far) << text;
+  }
+  require_rejected("regrow " + quoted(far) + " --frames 1-5 --strands 20 --out " + quoted(out.string() + "/h.####.usda"),
+                   "emitter.animation: the key at frame 5", scratch, out);
+  // Within the bound it runs.
+  const std::string near = scratch / "near.groom.yaml";
+  {
+    std::string text = read_text(far);
+    text.replace(text.find("999000"), 6, "990000");
+    std::ofstream(near) << text;
+  }
+  const RunResult run = run_plume_bounded(
+      "regrow " + quoted(near) + " --frames 5 --strands 20 --out " + quoted(out.string() + "/h.####.usda"), scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+}
+
+TEST_CASE("a guide cache with a point beyond the scene bound is refused before anything is written", "[cli]") {
+  ScratchDir scratch("cache_bound");
+  const std::string groom = write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n");
+  const fs::path out = scratch.path / "out";
+  const std::string cache = scratch / "cache/c.####.usda";
+  RunResult run = run_plume_bounded("simulate " + quoted(groom) + " --frames 1-2 --cache " + quoted(cache), scratch);
+  REQUIRE(run.exit_code == 0);
+  const std::string frame2 = scratch / "cache/c.0002.usda";
+  std::string text = read_text(frame2);
+  const std::string points_key = "2: [(";  // points.timeSamples at frame 2
+  const size_t points = text.find(points_key);
+  REQUIRE(points != std::string::npos);
+  const size_t x = points + points_key.size();
+  text.replace(x, text.find(',', x) - x, "2e7");  // the first point's x
+  std::ofstream(frame2) << text;
+  require_rejected("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --guides-cache " + quoted(cache) +
+                       " --out " + quoted(out.string() + "/h.####.usda"),
+                   "c.0002.usda: guide cache: point 0", scratch, out);
+}
+
+TEST_CASE("a groom file's input paths holding a NUL character are rejected", "[cli]") {
+  ScratchDir scratch("nul_input");
+  const fs::path out = scratch.path / "out";
+  const std::string groom = write_sintel_groom(scratch, "g", "", sintel_dir() + "/sintel_guides\\0.hair");
+  {
+    // YAML's "\0" escape inside a double-quoted scalar.
+    std::string text = read_text(groom);
+    const std::string written = sintel_dir() + "/sintel_guides\\0.hair";
+    text.replace(text.find(written), written.size(), "\"" + written + "\"");
+    std::ofstream(groom) << text;
+  }
+  require_rejected("regrow " + quoted(groom) + " --frames 1 --strands 20 --out " + quoted(out.string() + "/h.usda"),
+                   "guides.file: expected a path without a NUL character", scratch, out);
+}
+
+TEST_CASE("roots with no area to scatter on are named by the groom file and keys", "[cli]") {
+  ScratchDir scratch("roots_no_area");
+  const fs::path out = scratch.path / "out";
+  // Face group "scalp" holds only a degenerate triangle (three points on a line).
+  std::ofstream(scratch / "m.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\n"
+                                      "g skin\nf 1 2 3\ng scalp\nf 2 4 5\n";
+  std::ofstream(scratch / "guides.obj") << "v 0.2 0.2 0\nv 0.2 0.2 0.5\nv 0.2 0.2 1\nl 1 2 3\n";
+  const std::string groom = scratch / "g.groom.yaml";
+  std::ofstream(groom) << "plume: 1\nemitter: {mesh: m.obj}\nguides: {file: guides.obj}\n"
+                          "roots: {count: 10, groups: [scalp]}\nstrands: {points: 4}\n";
+  require_rejected("regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda"),
+                   "g.groom.yaml:4", scratch, out);
 }

@@ -472,7 +472,7 @@ TEST_CASE("groom file rules between keys are errors with key paths", "[io]") {
       {"roots: {count: 10}\noutput: {preview: out/p.jpg}\n", "output.preview", "expected a path ending in .png"},
       {"roots: {count: 10}\noutput: {frames: 48-1}\n", "output.frames", "expected a frame range A, A-B or A-B:S"},
       {"roots: {count: 10}\noutput: {frames: 1-48:0}\n", "output.frames", "expected a frame range"},
-      {"roots: {count: 10}\noutput: {preview_size: 8}\n", "output.preview_size", "expected a whole number in [16, 16384]"},
+      {"roots: {count: 10}\noutput: {preview_size: 8}\n", "output.preview_size", "expected a whole number in [16, 8192]"},
   };
   for (const Case &c : cases) {
     const std::string path = t.write(c.body);

@@ -74,6 +74,26 @@ class TempGroom {
   static inline int counter_ = 0;
 };
 
+
+/// A groom body that must fail with "file:line:col: key_path: " and `expected` in the message.
+struct KeyErrorCase {
+  std::string body;
+  std::string key_path;
+  std::string expected;
+};
+
+/// Writes each case's body after the required keys and checks its message.
+void check_key_errors(const TempGroom &t, const std::vector<KeyErrorCase> &cases) {
+  for (const KeyErrorCase &c : cases) {
+    const std::string path = t.write(c.body);
+    const std::string message = error_of(path);
+    INFO(c.body << " -> " << message);
+    CHECK(std::regex_search(message, std::regex(R"(^[^:]+\.groom\.yaml:\d+:\d+: )")));
+    CHECK(message.find(": " + c.key_path + ": ") != std::string::npos);
+    CHECK(message.find(c.expected) != std::string::npos);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("a full groom file sets every field of GroomDesc", "[io]") {
@@ -418,12 +438,7 @@ TEST_CASE("every groom fixture in tests/data/bad fails with a located message", 
 
 TEST_CASE("groom file rules between keys are errors with key paths", "[io]") {
   TempGroom t;
-  struct Case {
-    std::string body;
-    std::string key_path;
-    std::string expected;
-  };
-  const std::vector<Case> cases{
+  const std::vector<KeyErrorCase> cases{
       {"roots: {count: 10, density: 5}\n", "roots", "expected one of count, density or file"},
       {"roots: {groups: [scalp]}\n", "roots", "expected one of count, density or file"},
       {"roots: {file: " + (fixtures / "roots.txt").string() + ", count: 5}\n", "roots.count", "not allowed with roots.file"},
@@ -474,27 +489,15 @@ TEST_CASE("groom file rules between keys are errors with key paths", "[io]") {
       {"roots: {count: 10}\noutput: {frames: 1-48:0}\n", "output.frames", "expected a frame range"},
       {"roots: {count: 10}\noutput: {preview_size: 8}\n", "output.preview_size", "expected a whole number in [16, 8192]"},
   };
-  for (const Case &c : cases) {
-    const std::string path = t.write(c.body);
-    const std::string message = error_of(path);
-    INFO(c.body << " -> " << message);
-    CHECK(std::regex_search(message, std::regex(R"(^[^:]+\.groom\.yaml:\d+:\d+: )")));
-    CHECK(message.find(": " + c.key_path + ": ") != std::string::npos);
-    CHECK(message.find(c.expected) != std::string::npos);
-  }
+  check_key_errors(t, cases);
 }
 
 TEST_CASE("numbers beyond their documented bounds are errors naming the file, line and key", "[io]") {
   // Each value is a finite 32-bit float that growth used to turn into inf or NaN points (an
   // internal error), or a number too large for a float that was accepted.
   TempGroom t;
-  struct Case {
-    std::string body;
-    std::string key_path;
-    std::string expected;
-  };
   const std::string r = "roots: {count: 10}\n";
-  const std::vector<Case> cases{
+  const std::vector<KeyErrorCase> cases{
       {r + "interpolation: {method: fur, falloff: 1e12}\n", "interpolation.falloff", "expected a number in (0, 4], got \"1e12\""},
       {r + "interpolation: {skin_margin: 1e30}\n", "interpolation.skin_margin", "expected a number in [0, 1e+06]"},
       {r + "interpolation: {radius: 1e39}\n", "interpolation.radius", "expected a finite number, got \"1e39\""},
@@ -521,14 +524,7 @@ TEST_CASE("numbers beyond their documented bounds are errors naming the file, li
       {r + "dynamics: {stiffness: [[0, 1e30]]}\n", "dynamics.stiffness[0][1]", "expected a value in [0, 1e+06]"},
       {r + "output: {frames: 1}\neffects: [{type: tension, ramp: [[1e39, 1]]}]\n", "effects[0].ramp[0][0]", "expected a finite number"},
   };
-  for (const Case &c : cases) {
-    const std::string path = t.write(c.body);
-    const std::string message = error_of(path);
-    INFO(c.body << " -> " << message);
-    CHECK(std::regex_search(message, std::regex(R"(^[^:]+\.groom\.yaml:\d+:\d+: )")));
-    CHECK(message.find(": " + c.key_path + ": ") != std::string::npos);
-    CHECK(message.find(c.expected) != std::string::npos);
-  }
+  check_key_errors(t, cases);
   // The bounds themselves are accepted.
   const GroomDesc g = read_groom_file(t.write(
       "roots: {count: 10, near_guides: 1e6}\n"

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "app/pipeline.h"
@@ -109,13 +110,23 @@ std::string RunInputs::input_at(const std::string &path, int frame) const {
   if (!file_identity(path, device, inode)) return {};
   for (const File &file : files_)
     if (file.device == device && file.inode == inode) return file.what;
-  auto same = [&](const std::string &pattern) {
-    uintmax_t other_device = 0, other_inode = 0;
-    return !pattern.empty() && file_identity(expand_frame_pattern(pattern, frame), other_device, other_inode) &&
-           other_device == device && other_inode == inode;
+  // A frame's file of an input pattern: this frame's, or the frame the file name reads as (a
+  // simulation reads frames before the range, and a pattern with other padding may name another).
+  auto input_frame = [&](const std::string &pattern) -> std::optional<int> {
+    if (pattern.empty()) return std::nullopt;
+    auto same = [&](int at) {
+      uintmax_t other_device = 0, other_inode = 0;
+      return file_identity(expand_frame_pattern(pattern, at), other_device, other_inode) && other_device == device &&
+             other_inode == inode;
+    };
+    if (same(frame)) return frame;
+    const std::optional<int> named = frame_in_file_name(pattern, path);
+    if (named && same(*named)) return named;
+    return std::nullopt;
   };
-  if (same(sequence_pattern_)) return "the emitter sequence's mesh of frame " + std::to_string(frame);
-  if (same(guides_cache_)) return "the --guides-cache file of frame " + std::to_string(frame);
+  if (const std::optional<int> at = input_frame(sequence_pattern_))
+    return "the emitter sequence's mesh of frame " + std::to_string(*at);
+  if (const std::optional<int> at = input_frame(guides_cache_)) return "the --guides-cache file of frame " + std::to_string(*at);
   return {};
 }
 

@@ -56,8 +56,9 @@ class RunInputs {
  public:
   /// `guides_cache`: the --guides-cache pattern, or empty.
   RunInputs(const GroomDesc &groom, const std::string &guides_cache);
-  /// Which input the existing file `path` is (the same file, by device and inode, as one read at
-  /// frame `frame`), described for a message; empty when it is none or does not exist.
+  /// Which input the existing file `path` is (the same file, by device and inode, as one the run
+  /// reads: a groom file, or the sequence's or cache's file of `frame` or of the frame its name
+  /// reads as), described for a message; empty when it is none or does not exist.
   std::string input_at(const std::string &path, int frame) const;
 
  private:

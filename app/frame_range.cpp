@@ -3,6 +3,7 @@
 #include <cctype>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 
 #include "groom/error.h"
 
@@ -100,6 +101,28 @@ std::string expand_frame_pattern(const std::string &pattern, int frame) {
   // Literal "%%" stands for one percent sign in printf-style patterns.
   for (size_t i = result.find("%%"); i != std::string::npos; i = result.find("%%", i + 1)) result.erase(i, 1);
   return result;
+}
+
+std::optional<int> frame_in_file_name(const std::string &pattern, const std::string &path) {
+  const FrameField field = find_frame_field(pattern);
+  if (field.begin == std::string::npos) return std::nullopt;
+  const size_t name_begin = pattern.size() - std::filesystem::path(pattern).filename().string().size();
+  if (field.begin < name_begin) return std::nullopt;
+  auto unescaped = [](std::string text) {  // "%%" is one percent sign, as in expand_frame_pattern()
+    for (size_t i = text.find("%%"); i != std::string::npos; i = text.find("%%", i + 1)) text.erase(i, 1);
+    return text;
+  };
+  const std::string prefix = unescaped(pattern.substr(name_begin, field.begin - name_begin));
+  const std::string suffix = unescaped(pattern.substr(field.begin + field.length));
+  const std::string name = std::filesystem::path(path).filename().string();
+  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return std::nullopt;
+  const char *first = name.data() + prefix.size(), *last = name.data() + name.size() - suffix.size();
+  int frame = 0;
+  const auto [end, error] = std::from_chars(first, last, frame);
+  if (error != std::errc() || end != last || frame < -kMaxFrame || frame > kMaxFrame) return std::nullopt;
+  return frame;
 }
 
 void check_frame_pattern(const std::string &pattern, const FrameRange &range, const std::string &what) {

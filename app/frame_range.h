@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace plume {
@@ -35,6 +36,12 @@ bool has_frame_field(const std::string &pattern);
 /// %0Nd). A pattern without a field is returned as is. Throws InputError for two fields or a
 /// malformed %-field.
 std::string expand_frame_pattern(const std::string &pattern, int frame);
+
+/// The frame whose expansion of `pattern` has the file name of `path` (folders are not compared),
+/// or none: a file name that does not fit the pattern, or a pattern whose frame field is in a
+/// folder name. The caller compares the expanded path with `path` itself (a number with other
+/// padding fits the name but not the expansion).
+std::optional<int> frame_in_file_name(const std::string &pattern, const std::string &path);
 
 /// Throws InputError naming `what` (the option or groom key) unless `pattern` can name every frame
 /// of `range`: no NUL character (a file name would end there), a frame field when there is more

@@ -89,26 +89,6 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
   return scatter_roots(rest_mesh, count, settings.seed, mask, settings.loc);
 }
 
-/// A rigidly posed vertex is pivot + translate + R scale (p - pivot), with translate and scale
-/// between two keys' and R a rotation, so it lies within |pivot| + max over keys of (|translate| +
-/// scale max_p |p - pivot|) of the origin. Throws InputError at the animation unless that stays
-/// within the scene bound (groom/limits.h) at every key: then every frame's posed emitter does.
-void check_rigid_keys(const EmitterAnimation &animation, const Mesh &rest_mesh) {
-  if (animation.kind != EmitterAnimation::Kind::rigid) return;
-  double reach = 0.0;
-  for (const Eigen::Vector3f &p : rest_mesh.positions) reach = std::max(reach, double((p - animation.pivot).norm()));
-  for (const RigidKey &key : animation.keys) {
-    const double extent =
-        double(animation.pivot.norm()) + double(key.translate.norm()) + double(std::abs(key.scale)) * reach;
-    if (!(extent <= double(max_coordinate)))
-      throw InputError(animation.loc, "emitter.animation: the key at frame " + std::to_string(key.frame) +
-                                          " moves the emitter up to " + std::to_string(extent) +
-                                          " from the origin, beyond the scene bound " +
-                                          std::to_string(double(max_coordinate)) +
-                                          " (groom-format.md: coordinates and lengths)");
-  }
-}
-
 }  // namespace
 
 Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
@@ -145,7 +125,6 @@ Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
 
 Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom), options_(options) {
   rest_mesh_ = io::read_obj_mesh(groom_.emitter_path);
-  check_rigid_keys(groom_.animation, rest_mesh_);
   const MeshQuery rest_query(rest_mesh_);
   guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
   if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");

@@ -592,7 +592,7 @@ void GroomReader::read_dynamics(YamlMap &root, GroomDesc &groom) {
   d.collision_margin = at_least(dyn, "margin", d.collision_margin, 0.0f);
   const std::vector<YAML::Node> shapes = dyn.sequence("shapes");
   for (size_t i = 0; i < shapes.size(); ++i) d.shapes.push_back(read_shape(shapes[i], indexed(dyn.key_path("shapes"), i)));
-  d.cache_pattern = output_pattern(dyn, "cache", {".hair", ".usda"}, true);
+  d.cache_pattern = output_pattern(dyn, "cache", {".hair", ".usda", ".ply", ".obj"}, true);
   dyn.finish();
 }
 

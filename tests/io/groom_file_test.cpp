@@ -639,3 +639,14 @@ TEST_CASE("every groom in grooms/ is a valid groom file", "[io]") {
   }
   CHECK(count >= 1);
 }
+
+TEST_CASE("dynamics.cache takes the four strand formats, as plume simulate --cache does", "[io]") {
+  TempGroom t;
+  for (const std::string ext : {".hair", ".usda", ".ply", ".obj"}) {
+    const GroomDesc g = read_groom_file(t.write("roots: {count: 10}\ndynamics: {cache: cache/g.####" + ext + "}\n"));
+    CHECK(g.dynamics.cache_pattern.size() > ext.size());
+    CHECK(g.dynamics.cache_pattern.compare(g.dynamics.cache_pattern.size() - ext.size(), ext.size(), ext) == 0);
+  }
+  check_key_errors(t, {{"roots: {count: 10}\ndynamics: {cache: cache/g.####.abc}\n", "dynamics.cache",
+                        "expected a path ending in .hair, .usda, .ply, .obj"}});
+}

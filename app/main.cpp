@@ -1,14 +1,46 @@
 // The `plume` command: parses the command line (CLI11), runs the chosen subcommand and maps errors
 // to exit codes: 0 done, 2 bad input (InputError or a command-line error), 1 internal failure,
-// 3 `plume check --strict` found a violation.
+// 3 `plume check --strict` found a violation. SIGTERM, SIGINT and SIGHUP remove the temporary files
+// of outputs being written before the process dies of the signal.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 
 #include "app/commands.h"
 #include "groom/error.h"
+#include "io/atomic_file.h"
+
+namespace {
+
+/// Runs on the thread that received the signal, with the action already reset to the default
+/// (SA_RESETHAND): removes the partial outputs, then re-raises so that the signal ends the process
+/// on return and the parent (a shell, `timeout`, a batch scheduler) still sees "killed by signal".
+void remove_temp_files_and_reraise(int signal_number) {
+  plume::io::remove_open_temp_files();
+  std::raise(signal_number);
+}
+
+/// Installs the handler for the signals that stop a task (`timeout`, batch time limits and
+/// preemption send SIGTERM, Ctrl-C SIGINT, a closed terminal SIGHUP). A signal the parent set to be
+/// ignored (`nohup`, background jobs) stays ignored.
+void remove_temp_files_on_stop_signals() {
+  struct sigaction action = {};
+  action.sa_handler = remove_temp_files_and_reraise;
+  action.sa_flags = SA_RESETHAND;
+  sigemptyset(&action.sa_mask);
+  for (const int signal_number : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&action.sa_mask, signal_number);
+  for (const int signal_number : {SIGTERM, SIGINT, SIGHUP}) {
+    struct sigaction previous = {};
+    sigaction(signal_number, nullptr, &previous);
+    if (previous.sa_handler != SIG_IGN) sigaction(signal_number, &action, nullptr);
+  }
+}
+
+}  // namespace
 
 int main(int argc, char **argv) {
+  remove_temp_files_on_stop_signals();
   CLI::App app{"Plume: regrows dense hair from guide strands on an emitter mesh, frame by frame."};
   app.set_version_flag("--version", std::string("plume ") + PLUME_VERSION);
   app.require_subcommand(1);

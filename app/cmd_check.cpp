@@ -66,9 +66,16 @@ int run_check(const CheckArgs &args) {
     binding = interp::bind(mesh, *guides, *roots, groom->interpolation, partings->empty() ? nullptr : partings.get());
   }
 
-  const interp::CheckReport report =
-      interp::check_strands(strands, query, options, guides ? &*guides : nullptr, partings.get(),
-                            roots ? &*roots : nullptr, binding ? &*binding : nullptr);
+  // The only input check_strands refuses is a crossing tolerance beyond the crossing count's budget.
+  interp::CheckReport report;
+  try {
+    report = interp::check_strands(strands, query, options, guides ? &*guides : nullptr, partings.get(),
+                                   roots ? &*roots : nullptr, binding ? &*binding : nullptr);
+  } catch (const InputError &e) {
+    char tolerance[32];
+    std::snprintf(tolerance, sizeof tolerance, "%g", double(args.tolerance));
+    throw InputError(std::string("--tolerance ") + tolerance + ": " + e.what());
+  }
 
   std::printf("%s: %zu strands, %zu points\n", args.strands.c_str(), report.strand_count, report.point_count);
   std::printf("  points inside the skin (margin %g): %zu%s%s\n", double(args.margin), report.points_inside_skin,
@@ -76,7 +83,8 @@ int run_check(const CheckArgs &args) {
   if (report.crossings_checked) {
     std::printf("  crossing strand pairs (tolerance %g): %zu", double(args.tolerance), report.crossing_pairs);
     for (const auto &[a, b] : report.crossing_examples) std::printf("  %llu/%llu", (unsigned long long)a, (unsigned long long)b);
-    std::printf("  (%zu segment pairs examined)\n", report.segment_pairs_examined);
+    std::printf("  (%zu segment pairs examined of %zu binned)\n", report.segment_pairs_examined,
+                report.piece_pairs_binned);
   } else {
     std::printf("  crossing strand pairs: not checked (give --tolerance)\n");
   }

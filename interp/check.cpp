@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <exception>
 #include <limits>
 #include <utility>
 
+#include "groom/error.h"
 
 namespace plume::interp {
 
@@ -222,88 +225,166 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
   }
   const int64_t busy_cells = int64_t(cell_first.size() / 2);
 
+  // The work is known before any comparison: a cell of n pieces compares at most n (n - 1) / 2
+  // pairs. A tolerance that puts thousands of pieces side by side for every segment asks for
+  // (nearly) all pairs, which no file of a useful size can afford: refuse it.
+  for (int64_t c = 0; c < busy_cells; ++c) {
+    const double n = double(cell_first[2 * size_t(c) + 1] - cell_first[2 * size_t(c)]);
+    result.piece_pairs_binned += size_t(n * (n - 1.0) / 2.0);
+  }
+  const double budget = kCrossingPiecePairsPerSegment * double(segment_count);
+  if (double(result.piece_pairs_binned) > budget) {
+    char message[320];
+    std::snprintf(message, sizeof message,
+                  "crossing tolerance %g puts %.3g piece pairs side by side, %.0f per segment, over the budget of "
+                  "%.0f per segment (the tolerance is meant to be far below the spacing of the strands)",
+                  double(tolerance), double(result.piece_pairs_binned),
+                  double(result.piece_pairs_binned) / double(segment_count), kCrossingPiecePairsPerSegment);
+    throw InputError(message);
+  }
+
+  // Segment index of each strand's first segment (strands without a segment get an empty range).
+  std::vector<uint32_t> strand_first_segment(strand_count + 1, uint32_t(segment_count));
+  for (size_t i = segment_count; i-- > 0;) strand_first_segment[segment_strand[i]] = uint32_t(i);
+  for (size_t s = strand_count; s-- > 0;)
+    strand_first_segment[s] = std::min(strand_first_segment[s], strand_first_segment[s + 1]);
+
+  // The crossing rule for segments i < j of different strands.
+  const float tolerance_squared = tolerance * tolerance;
+  const auto segments_cross = [&](uint32_t i, uint32_t j) {
+    const Vector3f &a0 = strands.positions[segment_start[i]], &a1 = strands.positions[segment_start[i] + 1];
+    const Vector3f &b0 = strands.positions[segment_start[j]], &b1 = strands.positions[segment_start[j] + 1];
+    if (segment_distance_squared(a0, a1, b0, b1) > tolerance_squared) return false;
+    const uint32_t sa = segment_strand[i], sb = segment_strand[j];
+    const bool at_root = segment_start[i] == strands.offsets[sa] || segment_start[j] == strands.offsets[sb];
+    return !(at_root && (strands.positions[size_t(strands.offsets[sa])] - strands.positions[size_t(strands.offsets[sb])])
+                                .norm() < tolerance);
+  };
+  const auto boxes_overlap = [&](uint32_t p, uint32_t q) {
+    return !(piece_low[p].array() > piece_high[q].array()).any() && !(piece_low[q].array() > piece_high[p].array()).any();
+  };
+  // A strand pair is counted once, at its witness: the first crossing segment pair (i, j) of the
+  // two strands in the order of (i, j), at the first of their piece pairs (p, q) whose boxes
+  // overlap. Every piece pair with overlapping boxes is tested exactly once, and two segments
+  // within the tolerance have overlapping piece boxes, so each crossing strand pair meets its
+  // witness exactly once: the count needs no stored set of pairs, whatever it amounts to.
+  const auto is_witness = [&](uint32_t p, uint32_t q, uint32_t i, uint32_t j) {
+    for (uint32_t p2 = piece_first[i]; p2 <= p; ++p2)
+      for (uint32_t q2 = piece_first[j]; q2 < piece_first[j + 1] && (p2 < p || q2 < q); ++q2)
+        if (boxes_overlap(p2, q2)) return false;
+    // Earlier segment pairs, the far ones set aside by their boxes grown by the tolerance.
+    const uint32_t sb = segment_strand[j];
+    for (uint32_t i2 = strand_first_segment[segment_strand[i]]; i2 <= i; ++i2) {
+      const Vector3f &a0 = strands.positions[segment_start[i2]], &a1 = strands.positions[segment_start[i2] + 1];
+      const Eigen::Array3f low = a0.cwiseMin(a1).array() - tolerance, high = a0.cwiseMax(a1).array() + tolerance;
+      for (uint32_t j2 = strand_first_segment[sb]; j2 < strand_first_segment[sb + 1] && (i2 < i || j2 < j); ++j2) {
+        const Vector3f &b0 = strands.positions[segment_start[j2]], &b1 = strands.positions[segment_start[j2] + 1];
+        if ((b0.cwiseMin(b1).array() > high).any() || (b0.cwiseMax(b1).array() < low).any()) continue;
+        if (segments_cross(i2, j2)) return false;
+      }
+    }
+    return true;
+  };
+
   // Compare the pieces of a cell pairwise. A pair is tested only in the cell holding the lowest
   // corner of the overlap of their boxes, the per-axis largest of their lowest cells, so it is
   // tested once whatever the number of cells they share. The distance is that of the whole
-  // segments; strand pairs met several times are merged at the end.
+  // segments. Each thread keeps its count and its max_examples lowest pairs, so the memory stays
+  // that of the pieces. An exception inside the parallel region would end the program: the first
+  // one is kept and thrown after it.
   const int thread_count = omp_get_max_threads();
-  std::vector<std::vector<uint64_t>> found(static_cast<size_t>(thread_count));
-  std::vector<size_t> examined_by(static_cast<size_t>(thread_count), 0);
-  const float tolerance_squared = tolerance * tolerance;
+  std::vector<size_t> found_by(static_cast<size_t>(thread_count), 0), examined_by(static_cast<size_t>(thread_count), 0);
+  std::vector<std::vector<uint64_t>> examples_by(static_cast<size_t>(thread_count));
+  std::exception_ptr failure;
+  bool failed = false;
 #pragma omp parallel num_threads(thread_count)
   {
-    std::vector<uint64_t> &mine = found[size_t(omp_get_thread_num())];
-    size_t examined = 0;
+    const size_t thread = size_t(omp_get_thread_num());
+    size_t examined = 0, found = 0;
+    std::vector<uint64_t> &examples = examples_by[thread];
     std::vector<Vector3f> lows, highs;
     std::vector<Eigen::Vector3i> low_cells;
-    std::vector<uint32_t> segments, owners;
+    std::vector<uint32_t> pieces, segments, owners;
     std::vector<std::pair<float, uint32_t>> sweep;
 #pragma omp for schedule(dynamic, 256)
     for (int64_t c = 0; c < busy_cells; ++c) {
-      const size_t begin = cell_first[2 * size_t(c)], end = cell_first[2 * size_t(c) + 1], n = end - begin;
-      const uint32_t key = uint32_t(entries[begin] >> 32);
-      lows.resize(n);
-      highs.resize(n);
-      low_cells.resize(n);
-      segments.resize(n);
-      owners.resize(n);
-      // Sweep along the axis where the boxes are thinnest: sorted by their low end on it, a piece
-      // meets only the pieces that start before its high end there.
-      Vector3f extent = Vector3f::Zero();
-      for (size_t u = 0; u < n; ++u) {
-        const uint32_t q = uint32_t(entries[begin + u]);
-        extent += piece_high[q] - piece_low[q];
-      }
-      int axis = 0;
-      extent.minCoeff(&axis);
-      sweep.resize(n);
-      for (size_t u = 0; u < n; ++u) {
-        const uint32_t q = uint32_t(entries[begin + u]);
-        sweep[u] = {piece_low[q][axis], q};
-      }
-      std::sort(sweep.begin(), sweep.end());
-      for (size_t u = 0; u < n; ++u) {
-        const uint32_t q = sweep[u].second;
-        lows[u] = piece_low[q];
-        highs[u] = piece_high[q];
-        low_cells[u] = cell_of(lows[u]);
-        segments[u] = piece_segment[q];
-        owners[u] = segment_strand[segments[u]];
-      }
-      for (size_t u = 0; u < n; ++u) {
-        for (size_t w = u + 1; w < n && lows[w][axis] <= highs[u][axis]; ++w) {
-          if (owners[u] == owners[w]) continue;
-          ++examined;
-          if ((lows[u].array() > highs[w].array()).any() || (lows[w].array() > highs[u].array()).any()) continue;
-          if (key_of(low_cells[u].cwiseMax(low_cells[w])) != key) continue;
-          // Lower segment first: the distance is then computed exactly as the rule defines it.
-          const uint32_t i = std::min(segments[u], segments[w]), j = std::max(segments[u], segments[w]);
-          const Vector3f &a0 = strands.positions[segment_start[i]], &a1 = strands.positions[segment_start[i] + 1];
-          const Vector3f &b0 = strands.positions[segment_start[j]], &b1 = strands.positions[segment_start[j] + 1];
-          if (segment_distance_squared(a0, a1, b0, b1) > tolerance_squared) continue;
-          const uint32_t sa = segment_strand[i], sb = segment_strand[j];
-          const bool at_root = segment_start[i] == strands.offsets[sa] || segment_start[j] == strands.offsets[sb];
-          if (at_root && (strands.positions[size_t(strands.offsets[sa])] - strands.positions[size_t(strands.offsets[sb])])
-                                 .norm() < tolerance)
-            continue;
-          const uint64_t pair = uint64_t(std::min(sa, sb)) << 32 | uint64_t(std::max(sa, sb));
-          if (mine.empty() || mine.back() != pair) mine.push_back(pair);
+      bool stop = false;
+#pragma omp atomic read
+      stop = failed;
+      if (stop) continue;
+      try {
+        const size_t begin = cell_first[2 * size_t(c)], end = cell_first[2 * size_t(c) + 1], n = end - begin;
+        const uint32_t key = uint32_t(entries[begin] >> 32);
+        lows.resize(n);
+        highs.resize(n);
+        low_cells.resize(n);
+        pieces.resize(n);
+        segments.resize(n);
+        owners.resize(n);
+        // Sweep along the axis where the boxes are thinnest: sorted by their low end on it, a piece
+        // meets only the pieces that start before its high end there.
+        Vector3f extent = Vector3f::Zero();
+        for (size_t u = 0; u < n; ++u) {
+          const uint32_t q = uint32_t(entries[begin + u]);
+          extent += piece_high[q] - piece_low[q];
         }
+        int axis = 0;
+        extent.minCoeff(&axis);
+        sweep.resize(n);
+        for (size_t u = 0; u < n; ++u) {
+          const uint32_t q = uint32_t(entries[begin + u]);
+          sweep[u] = {piece_low[q][axis], q};
+        }
+        std::sort(sweep.begin(), sweep.end());
+        for (size_t u = 0; u < n; ++u) {
+          const uint32_t q = sweep[u].second;
+          pieces[u] = q;
+          lows[u] = piece_low[q];
+          highs[u] = piece_high[q];
+          low_cells[u] = cell_of(lows[u]);
+          segments[u] = piece_segment[q];
+          owners[u] = segment_strand[segments[u]];
+        }
+        for (size_t u = 0; u < n; ++u) {
+          for (size_t w = u + 1; w < n && lows[w][axis] <= highs[u][axis]; ++w) {
+            if (owners[u] == owners[w]) continue;
+            ++examined;
+            if ((lows[u].array() > highs[w].array()).any() || (lows[w].array() > highs[u].array()).any()) continue;
+            if (key_of(low_cells[u].cwiseMax(low_cells[w])) != key) continue;
+            // Lower segment first: the distance is then computed exactly as the rule defines it.
+            const bool u_first = segments[u] < segments[w];
+            const uint32_t i = u_first ? segments[u] : segments[w], j = u_first ? segments[w] : segments[u];
+            if (!segments_cross(i, j) || !is_witness(u_first ? pieces[u] : pieces[w], u_first ? pieces[w] : pieces[u], i, j))
+              continue;
+            ++found;
+            const uint64_t pair = uint64_t(segment_strand[i]) << 32 | uint64_t(segment_strand[j]);
+            if (examples.size() < max_examples || (!examples.empty() && pair < examples.back())) {
+              examples.insert(std::lower_bound(examples.begin(), examples.end(), pair), pair);
+              if (examples.size() > max_examples) examples.pop_back();
+            }
+          }
+        }
+      } catch (...) {
+#pragma omp critical(plume_count_crossings_failure)
+        if (!failure) failure = std::current_exception();
+#pragma omp atomic write
+        failed = true;
       }
     }
-    examined_by[size_t(omp_get_thread_num())] = examined;
+    examined_by[thread] = examined;
+    found_by[thread] = found;
   }
-  std::vector<uint64_t> pairs;
-  for (size_t t = 0; t < found.size(); ++t) {
-    pairs.insert(pairs.end(), found[t].begin(), found[t].end());
+  if (failure) std::rethrow_exception(failure);
+  std::vector<uint64_t> examples;
+  for (size_t t = 0; t < size_t(thread_count); ++t) {
+    result.pairs += found_by[t];
     result.segment_pairs_examined += examined_by[t];
+    examples.insert(examples.end(), examples_by[t].begin(), examples_by[t].end());
   }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  result.pairs = pairs.size();
+  std::sort(examples.begin(), examples.end());
   const bool has_ids = strands.ids.size() == strand_count;
-  for (size_t p = 0; p < pairs.size() && p < max_examples; ++p) {
-    const uint32_t a = uint32_t(pairs[p] >> 32), b = uint32_t(pairs[p]);
+  for (size_t p = 0; p < examples.size() && p < max_examples; ++p) {
+    const uint32_t a = uint32_t(examples[p] >> 32), b = uint32_t(examples[p]);
     result.examples.emplace_back(has_ids ? strands.ids[a] : a, has_ids ? strands.ids[b] : b);
   }
   return result;
@@ -358,6 +439,7 @@ CheckReport check_strands(const StrandSet &strands, const MeshQuery &query, cons
     report.crossing_pairs = crossings.pairs;
     report.crossing_examples = std::move(crossings.examples);
     report.segment_pairs_examined = crossings.segment_pairs_examined;
+    report.piece_pairs_binned = crossings.piece_pairs_binned;
   }
 
   if (partings && roots && binding) {

@@ -113,6 +113,38 @@ TEST_CASE("the crossing count is not all pairs: examined pairs grow linearly wit
   CHECK(double(large.segment_pairs_examined) < 0.01 * segments * segments / 2.0);
 }
 
+TEST_CASE("a tolerance that crosses every strand pair is counted exactly, without storing the pairs", "[check]") {
+  // 144 strands 0.015 apart: at tolerance 1 every pair crosses (beyond the first segments).
+  const StrandSet strands = wavy_field(12, 0.015f);
+  const CrossingCount count = count_crossings(strands, 1.0f, 8);
+  CHECK(count.pairs == 144 * 143 / 2);
+  REQUIRE(count.examples.size() == 8);
+  for (uint64_t b = 1; b <= 8; ++b) CHECK(count.examples[b - 1] == std::make_pair(uint64_t(0), b));
+  // The work stays within the budget the grid measured before comparing.
+  const double segments = 144.0 * 15.0;
+  CHECK(count.segment_pairs_examined <= count.piece_pairs_binned);
+  CHECK(double(count.piece_pairs_binned) <= kCrossingPiecePairsPerSegment * segments);
+}
+
+TEST_CASE("a tolerance beyond the crossing budget is refused before any comparison", "[check]") {
+  // 400 strands x 15 segments in a 0.3 x 0.3 x 0.45 box: at tolerance 10 they all share one cell,
+  // 6000 pieces, 3000 piece pairs per segment, over the budget.
+  const StrandSet strands = wavy_field(20, 0.015f);
+  REQUIRE(kCrossingPiecePairsPerSegment < 6000.0 * 5999.0 / 2.0 / 6000.0);
+  CHECK_THROWS_AS(count_crossings(strands, 10.0f, 8), InputError);
+  CHECK_THROWS_WITH(count_crossings(strands, 10.0f, 8), Catch::Contains("crossing tolerance 10"));
+  // check_strands passes the refusal on.
+  const Mesh plane = make_grid(4);
+  const MeshQuery query(plane);
+  CheckOptions options;
+  options.crossing_tolerance = 10.0f;
+  CHECK_THROWS_AS(check_strands(strands, query, options), InputError);
+  // The shipped kind of tolerance, far below the strands' spacing, is well within it.
+  const CrossingCount count = count_crossings(strands, 0.005f, 8);
+  CHECK(count.pairs == 0);
+  CHECK(double(count.piece_pairs_binned) < 0.05 * kCrossingPiecePairsPerSegment * 6000.0);
+}
+
 TEST_CASE("the checker counts influence across hard zones from a binding", "[check]") {
   const Mesh mesh = make_grid(10);
   const MeshQuery query(mesh);

@@ -402,3 +402,17 @@ TEST_CASE("roots with no area to scatter on are named by the groom file and keys
   require_rejected("regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda"),
                    "g.groom.yaml:4", scratch, out);
 }
+
+TEST_CASE("check refuses a crossing tolerance that would compare nearly every pair of segments", "[cli]") {
+  ScratchDir scratch("check_tolerance");
+  const std::string args = "check " + quoted(sintel_dir() + "/sintel_guides.hair") + " --mesh " +
+                           quoted(sintel_dir() + "/sintel.obj") + " --tolerance ";
+  const RunResult refused = run_plume_bounded(args + "1e6", scratch);
+  INFO(refused.err);
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.err.find("--tolerance 1e+06") != std::string::npos);
+  const RunResult counted = run_plume_bounded(args + "0.01", scratch);
+  INFO(counted.err);
+  CHECK(counted.exit_code == 0);
+  CHECK(counted.out.find("crossing strand pairs") != std::string::npos);
+}

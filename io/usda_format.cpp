@@ -447,7 +447,12 @@ class UsdaReader {
   bool curves_found_ = false;
   Token curves_at_;
   ArrayValue counts_, points_, widths_;
-  ArrayValue plume_ids_{.integer = true}, groom_ids_{.integer = true};
+  static ArrayValue integer_array() {
+    ArrayValue array;
+    array.integer = true;
+    return array;
+  }
+  ArrayValue plume_ids_ = integer_array(), groom_ids_ = integer_array();
 };
 
 // ---------------------------------------------------------------------------------------------

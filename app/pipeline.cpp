@@ -8,7 +8,6 @@
 #include "app/frame_range.h"
 #include "dynamics/guide_simulator.h"
 #include "groom/error.h"
-#include "groom/limits.h"
 #include "groom/mesh_query.h"
 #include "interp/effects.h"
 #include "interp/interpolate.h"
@@ -210,10 +209,7 @@ StrandSet Pipeline::read_cached_guides(int frame) const {
   if (!std::filesystem::exists(path))
     throw InputError("--guides-cache: " + path + " does not exist (write the cache with plume simulate first)");
   const StrandSet cached = io::read_strands(path);
-  for (size_t p = 0; p < cached.positions.size(); ++p)
-    if (!within_scene_bounds(cached.positions[p]))
-      throw InputError(FileLoc{path}, "guide cache: point " + std::to_string(p) + ": " +
-                                          out_of_bounds_message(cached.positions[p]));
+  check_guide_points(cached, path);
   if (cached.offsets != guides_.strands.offsets)
     throw InputError(FileLoc{path}, "guide cache: expected " + std::to_string(guides_.size()) + " guides of " +
                                         "the groom's point counts, got " + std::to_string(cached.strand_count()) +

@@ -5,19 +5,23 @@
 
 namespace plume {
 
+void check_guide_points(const StrandSet &strands, const std::string &source) {
+  for (size_t g = 0; g < strands.strand_count(); ++g) {
+    const std::span<const Eigen::Vector3f> points = strands.points(g);
+    for (size_t j = 0; j < points.size(); ++j)
+      if (!within_scene_bounds(points[j]))
+        throw InputError(FileLoc{source}, "guide " + std::to_string(g) + ", point " + std::to_string(j) + ": " +
+                                              out_of_bounds_message(points[j]));
+  }
+}
+
 Guides bind_guides(const MeshQuery &rest_query, StrandSet rest_strands, const std::string &source) {
   Guides guides;
   for (size_t g = 0; g < rest_strands.strand_count(); ++g)
     if (rest_strands.points_in(g) < 2)
       throw InputError(FileLoc{source}, "guide " + std::to_string(g) + ": expected at least 2 points, got " +
                                             std::to_string(rest_strands.points_in(g)));
-  for (size_t g = 0; g < rest_strands.strand_count(); ++g) {
-    const std::span<const Eigen::Vector3f> points = rest_strands.points(g);
-    for (size_t j = 0; j < points.size(); ++j)
-      if (!within_scene_bounds(points[j]))
-        throw InputError(FileLoc{source}, "guide " + std::to_string(g) + ", point " + std::to_string(j) + ": " +
-                                              out_of_bounds_message(points[j]));
-  }
+  check_guide_points(rest_strands, source);
   guides.roots.resize(rest_strands.strand_count());
   for (size_t g = 0; g < rest_strands.strand_count(); ++g)
     guides.roots[g] = rest_query.closest(rest_strands.points(g)[0]);

@@ -17,6 +17,10 @@ struct Guides {
   size_t size() const { return roots.size(); }
 };
 
+/// Throws InputError naming `source`, the guide and the point for a point beyond max_coordinate
+/// (groom/limits.h): rest guides, and simulated guides read back from a cache.
+void check_guide_points(const StrandSet &strands, const std::string &source);
+
 /// Binds each strand's first point to the closest surface point of the rest mesh.
 /// Throws InputError (naming `source`, the guide and the point) if a strand has fewer than 2
 /// points or a point beyond max_coordinate (groom/limits.h).

@@ -371,7 +371,7 @@ TEST_CASE("a guide cache with a point beyond the scene bound is refused before a
   std::ofstream(frame2) << text;
   require_rejected("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --guides-cache " + quoted(cache) +
                        " --out " + quoted(out.string() + "/h.####.usda"),
-                   "c.0002.usda: guide cache: point 0", scratch, out);
+                   "c.0002.usda: guide 0, point 0: expected coordinates within", scratch, out);
 }
 
 TEST_CASE("a groom file's input paths holding a NUL character are rejected", "[cli]") {

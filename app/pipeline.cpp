@@ -84,7 +84,7 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
     count = int64_t(std::llround(wanted));
   }
   if (count <= 0 && count_override < 0)
-    throw InputError(settings.loc, "roots: the groom gives no roots (count 0, or density x area < 1)");
+    throw InputError(settings.loc, "roots.density: density x area gives no root (less than 1)");
   return scatter_roots(rest_mesh, count, settings.seed, mask, settings.loc);
 }
 

@@ -337,7 +337,7 @@ void GroomReader::read_roots(YamlMap &root, GroomDesc &groom) {
     if (roots.given("count") == roots.given("density"))
       fail_expected(file_, root.node("roots"), "roots", "one of count, density or file");
     r.source = RootSettings::Source::scatter;
-    r.count = roots.integer("count", r.count, 0, max_count);
+    r.count = roots.integer("count", r.count, 1, max_count);
     r.density = roots.number_in("density", r.density, 0.0, double(max_count));
     r.groups = roots.string_list("groups");
     r.near_guides = at_least_double(roots, "near_guides", r.near_guides, 0.0);

@@ -86,6 +86,13 @@ TEST_CASE("--strands beyond 100,000,000 roots is rejected, as a groom's roots.co
   std::ofstream(dense) << text;
   require_rejected("regrow " + quoted(dense) + " --frames 1 --out " + quoted(out.string() + "/h.usda"), "roots.density",
                    scratch, out);
+  // And a density too small to give a single root over that area.
+  text = read_text(groom);
+  text.replace(text.find("count: 400"), 10, "density: 1e-9");
+  const std::string sparse = scratch / "sparse.groom.yaml";
+  std::ofstream(sparse) << text;
+  require_rejected("regrow " + quoted(sparse) + " --frames 1 --out " + quoted(out.string() + "/h.usda"),
+                   "roots.density: density x area gives no root", scratch, out);
 }
 
 TEST_CASE("check rejects a NaN tolerance or margin, as it rejects inf and negatives", "[cli]") {

@@ -390,9 +390,9 @@ TEST_CASE("groom file: stiffness as a ramp, zones from hard lines, keys given wi
 TEST_CASE("broken groom fixtures name the file, line:column, key path and what was expected", "[io]") {
   check_bad("unknown_top_key.groom.yaml", "6:1", "strand", "unknown key; expected one of:");
   check_bad("unknown_effect_key.groom.yaml", "10:5", "effects[1].amout", "unknown key");
-  check_bad("wrong_type_count.groom.yaml", "6:10", "roots.count", "expected a whole number in [0, 100000000], got \"many\"");
+  check_bad("wrong_type_count.groom.yaml", "6:10", "roots.count", "expected a whole number in [1, 100000000], got \"many\"");
   check_bad("points_out_of_range.groom.yaml", "7:11", "strands.points", "expected a whole number in [2, 65536], got \"1\"");
-  check_bad("huge_count.groom.yaml", "5:16", "roots.count", "expected a whole number in [0, 100000000], got \"1e12\"");
+  check_bad("huge_count.groom.yaml", "5:16", "roots.count", "expected a whole number in [1, 100000000], got \"1e12\"");
   check_bad("missing_mesh.groom.yaml", "4:3", "emitter.mesh", "missing required key");
   check_bad("missing_guides_file.groom.yaml", "5:9", "guides.file",
             "expected an existing file, got \"../groom_file/no_such_guides.hair\" (" +
@@ -502,6 +502,7 @@ TEST_CASE("numbers beyond their documented bounds are errors naming the file, li
       {r + "interpolation: {skin_margin: 1e30}\n", "interpolation.skin_margin", "expected a number in [0, 1e+06]"},
       {r + "interpolation: {radius: 1e39}\n", "interpolation.radius", "expected a finite number, got \"1e39\""},
       {r + "interpolation: {radius: 1e7}\n", "interpolation.radius", "expected a number in [0, 1e+06]"},
+      {"roots: {count: 0}\n", "roots.count", "expected a whole number in [1, 100000000], got \"0\""},
       {"roots: {count: 10, near_guides: 1e39}\n", "roots.near_guides", "expected a finite number, got \"1e39\""},
       {"roots: {count: 10, near_guides: 1e7}\n", "roots.near_guides", "expected a number in [0, 1e+06]"},
       {r + "strands: {width: {tip: 1e20}}\n", "strands.width.tip", "expected a number in [0, 1e+06]"},

@@ -55,6 +55,10 @@ int run_check(const CheckArgs &args) {
   std::optional<Guides> guides;
   const std::string guides_path = !args.guides.empty() ? args.guides : groom ? groom->guides_path : std::string();
   if (!guides_path.empty()) guides = bind_guides(query, io::read_strands(guides_path), guides_path);
+  if (guides && guides->size() == 0) {
+    if (!args.guides.empty()) throw InputError("--guides: " + guides_path + " holds no strands");
+    throw InputError(groom->guides_loc, "guides: " + guides_path + " holds no strands");
+  }
 
   // The zone check binds the strands' roots with the groom's partings and interpolation settings.
   std::unique_ptr<interp::PartingField> partings;

@@ -112,6 +112,18 @@ TEST_CASE("check rejects a NaN tolerance or margin, as it rejects inf and negati
   CHECK(run.exit_code == 0);
 }
 
+TEST_CASE("check refuses a guide file without strands instead of skipping the deviation", "[cli]") {
+  ScratchDir scratch("check_no_guides");
+  const std::string strands = quoted(sintel_dir() + "/sintel_guides.hair");
+  const std::string mesh = " --mesh " + quoted(sintel_dir() + "/sintel.obj");
+  const std::string empty = scratch / "empty.obj";
+  std::ofstream(empty) << "v 0 0 0\n";
+  const RunResult run = run_plume_bounded("check " + strands + mesh + " --guides " + quoted(empty), scratch);
+  INFO(run.out << run.err);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("--guides: " + empty + " holds no strands") != std::string::npos);
+}
+
 TEST_CASE("simulate names the groom file when the groom has no dynamics", "[cli]") {
   ScratchDir scratch("simulate_no_dynamics");
   const std::string groom = write_sintel_groom(scratch, "still", "");

@@ -18,7 +18,17 @@
 namespace plume {
 
 void set_thread_count(int threads) {
-  if (threads > 0) omp_set_num_threads(threads);
+  if (threads > 0) {
+    omp_set_num_threads(threads);
+    return;
+  }
+  // Without --threads, OpenMP takes OMP_NUM_THREADS, or the hardware's thread count.
+  const int count = omp_get_max_threads();
+  if (count <= kMaxThreads) return;
+  if (std::getenv("OMP_NUM_THREADS"))
+    throw InputError("OMP_NUM_THREADS: expected at most " + std::to_string(kMaxThreads) + " threads (as --threads), got " +
+                     std::to_string(count));
+  omp_set_num_threads(kMaxThreads);
 }
 
 void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description) {

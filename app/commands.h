@@ -33,7 +33,9 @@ inline constexpr int kMaxThreads = 1024;
 
 // Shared by the commands.
 
-/// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it).
+/// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it). Otherwise OpenMP's
+/// own count stands (OMP_NUM_THREADS, or the hardware threads), at most kMaxThreads: an
+/// OMP_NUM_THREADS above it is an InputError naming the variable, more hardware threads are capped.
 void set_thread_count(int threads);
 /// Adds `--threads N`, N in [1, kMaxThreads], to `cmd`.
 void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description);

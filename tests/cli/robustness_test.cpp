@@ -47,7 +47,7 @@ TEST_CASE("frame numbers beyond nine digits are rejected, as in a groom's output
   CHECK(fs::exists(scratch / "h.999999999.hair"));
 }
 
-TEST_CASE("--threads beyond 1024 is rejected before any thread is started", "[cli]") {
+TEST_CASE("--threads or OMP_NUM_THREADS beyond 1024 is rejected before any thread is started", "[cli]") {
   ScratchDir scratch("threads_bound");
   const std::string groom = write_sintel_groom(scratch, "g", "");
   const fs::path out = scratch.path / "out";
@@ -65,6 +65,24 @@ TEST_CASE("--threads beyond 1024 is rejected before any thread is started", "[cl
   require_rejected("simulate " + quoted(write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n")) +
                        " --frames 1 --cache " + quoted(out.string() + "/c.#.hair") + " --threads 100000",
                    "--threads", scratch, out);
+  // The same bound on OMP_NUM_THREADS, which sets the count when --threads is not given (this
+  // crashed libgomp); --threads still overrides it.
+  const std::string check = " check " + quoted(sintel_dir() + "/sintel_guides.hair") + " --mesh " +
+                            quoted(sintel_dir() + "/sintel.obj") + " --tolerance 0.01";
+  const std::string regrow = " regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda");
+  for (const std::string args : {check, regrow}) {
+    INFO(args);
+    const RunResult run = run_plume_command(
+        "ulimit -v 2000000; OMP_NUM_THREADS=100000 exec timeout 60 " + quoted(PLUME_BINARY) + args, scratch);
+    INFO(run.err);
+    CHECK(run.exit_code == 2);
+    CHECK(run.err.find("OMP_NUM_THREADS: expected at most 1024 threads (as --threads), got 100000") != std::string::npos);
+    CHECK(files_in(out).empty());
+  }
+  const RunResult overridden = run_plume_command(
+      "OMP_NUM_THREADS=100000 exec timeout 60 " + quoted(PLUME_BINARY) + check + " --threads 2", scratch);
+  INFO(overridden.err);
+  CHECK(overridden.exit_code == 0);
 }
 
 TEST_CASE("--strands beyond 100,000,000 roots is rejected, as a groom's roots.count", "[cli]") {

@@ -36,7 +36,7 @@ void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &descri
 }
 
 void add_strands_option(CLI::App &cmd, int64_t &r_strands, const std::string &description) {
-  cmd.add_option("--strands", r_strands, description)->check(CLI::Range(int64_t(1), kMaxRootCount));
+  cmd.add_option("--strands", r_strands, description)->check(CLI::Range(int64_t(1), max_root_count));
 }
 
 CLI::Validator finite_non_negative() {
@@ -55,7 +55,7 @@ CLI::Validator finite_non_negative() {
 int preview_size_of(int option, const GroomDesc &groom) { return option > 0 ? option : groom.output.preview_size; }
 
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description) {
-  cmd.add_option(name, r_size, description)->check(CLI::Range(16, kMaxPreviewSize));
+  cmd.add_option(name, r_size, description)->check(CLI::Range(16, max_preview_size));
 }
 
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {

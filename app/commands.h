@@ -39,7 +39,7 @@ inline constexpr int kMaxThreads = 1024;
 void set_thread_count(int threads);
 /// Adds `--threads N`, N in [1, kMaxThreads], to `cmd`.
 void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description);
-/// Adds `--strands N`, N in [1, kMaxRootCount] (pipeline.h), to `cmd`.
+/// Adds `--strands N`, N in [1, max_root_count] (groom_desc.h), to `cmd`.
 void add_strands_option(CLI::App &cmd, int64_t &r_strands, const std::string &description);
 /// A number >= 0 and finite as a float ("nan", "inf", 1e39 and negatives fail with a message
 /// naming the value).
@@ -97,9 +97,9 @@ class PreviewSchedule {
   bool sequence_;  // the pattern has a frame field
 };
 /// The preview size: `option` when > 0, else the groom's output.preview_size (both checked to lie in
-/// [16, kMaxPreviewSize] where they are read).
+/// [16, max_preview_size] where they are read).
 int preview_size_of(int option, const GroomDesc &groom);
-/// Adds a preview size option `name` in [16, kMaxPreviewSize] to `cmd`.
+/// Adds a preview size option `name` in [16, max_preview_size] to `cmd`.
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description);
 /// Lower-case extension with its dot (".usda"), empty when there is none.
 std::string extension_of(const std::string &path);

@@ -78,9 +78,9 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
   } else if (count <= 0) {
     const double wanted = settings.density * masked_area(rest_mesh, mask);
     // Checked as a double: a product beyond int64 would not round to a count at all.
-    if (!(wanted <= double(kMaxRootCount)))
+    if (!(wanted <= double(max_root_count)))
       throw InputError(settings.loc, "roots.density: density x area gives " + std::to_string(wanted) +
-                                         " roots, more than " + std::to_string(kMaxRootCount));
+                                         " roots, more than " + std::to_string(max_root_count));
     count = int64_t(std::llround(wanted));
   }
   if (count <= 0 && count_override < 0)

@@ -35,9 +35,6 @@ class GuideSimulator;
 /// nearest key holds.
 Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame);
 
-/// The most roots a run grows, as a groom's roots.count allows: a larger count is a typo, not a groom.
-inline constexpr int64_t kMaxRootCount = 100000000;
-
 struct PipelineOptions {
   /// Overrides the groom's root count when >= 0 (proxy runs); a smaller count keeps a subset of the
   /// full groom's roots (scattering is stable under the count).

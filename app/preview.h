@@ -30,15 +30,13 @@ PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3
                          const Eigen::Vector3f &front = Eigen::Vector3f::UnitZ(), float yaw_degrees = 35.0f,
                          float pitch_degrees = 10.0f);
 
-/// The largest preview, in pixels a side (groom_desc.h): the image and its PNG are held whole, the
-/// supersampled raster is drawn in bands of kPreviewBandBytes.
-inline constexpr int kMaxPreviewSize = max_preview_size;
-/// The most memory a band of the supersampled raster takes.
+/// The most memory a band of the supersampled raster takes: up to max_preview_size (groom_desc.h)
+/// pixels a side, the image and its PNG are held whole and the supersampled raster is drawn in bands.
 inline constexpr size_t kPreviewBandBytes = size_t(64) << 20;
 
 /// Colours are linear RGB in [0, 1]; the image is written gamma-encoded (sRGB-like, 1/2.2).
 struct PreviewStyle {
-  int size = 800;        // square image, pixels, in [1, kMaxPreviewSize]
+  int size = 800;        // square image, pixels, in [1, max_preview_size]
   int supersample = 3;   // strands and edges are drawn at size * supersample, then box-filtered
   int strand_brush = 3;  // strand width in supersampled pixels
   Eigen::Vector3f hair_color = Eigen::Vector3f(0.16f, 0.055f, 0.022f);

@@ -34,6 +34,10 @@ struct EmitterAnimation {
   FileLoc loc;
 };
 
+/// The most roots a groom (roots.count, roots.density x area) or a run (--strands) may ask for:
+/// beyond this a typo, not a groom.
+inline constexpr int64_t max_root_count = 100'000'000;
+
 struct RootSettings {
   enum class Source { scatter, file } source = Source::scatter;
   int64_t count = 0;           // scatter: total count (0: use density)
@@ -47,9 +51,12 @@ struct RootSettings {
   FileLoc loc;
 };
 
+/// The most guides a root may blend (InterpolationSettings::k): growth keeps them in fixed slots.
+inline constexpr int max_guides_per_root = 16;
+
 struct InterpolationSettings {
   enum class Method { streamline, fur, linear } method = Method::streamline;
-  int k = 4;                   // guides per root
+  int k = 4;                   // guides per root, in [1, max_guides_per_root]
   double radius = 0.0;         // 0: unlimited
   float falloff = 2.0f;        // weight ~ 1 / d^falloff
   float skin_margin = 0.02f;   // scene units kept between strands and the skin

@@ -50,8 +50,8 @@ float falloff_pow(float distance, float falloff) {
 Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, const InterpolationSettings &settings,
              const PartingField *partings) {
   const int k = settings.k;
-  if (k < 1 || k > max_influences)
-    throw InputError(settings.loc, "interpolation.k: expected an integer in [1, " + std::to_string(max_influences) +
+  if (k < 1 || k > max_guides_per_root)
+    throw InputError(settings.loc, "interpolation.k: expected an integer in [1, " + std::to_string(max_guides_per_root) +
                                        "], got " + std::to_string(k));
   if (!(settings.falloff > 0.0f) || !std::isfinite(settings.falloff))
     throw InputError(settings.loc, "interpolation.falloff: expected a positive number");

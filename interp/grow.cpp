@@ -228,7 +228,7 @@ void load_quad(const GuideSegment *const segments[4], Int4 index, int quad, Floa
 /// guide per lane). Lanes past the last guide repeat the group's first lane and are left out of the
 /// blend.
 struct StreamlineSlots {
-  static constexpr int max_groups = (max_influences + 3) / 4;
+  static constexpr int max_groups = (max_guides_per_root + 3) / 4;
   /// What the field keeps of one evaluation for the next, per lane.
   struct Progress {
     Int4 segment;  // segment of the guide holding the last closest point
@@ -427,7 +427,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   for (int64_t r = 0; r < root_count; ++r) {
     const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
     const Eigen::Vector3f normal = root_frame.normal();
-    Slot slots[max_influences];
+    Slot slots[max_guides_per_root];
     int used = 0;
     for (int s = 0; s < k; ++s) {
       const size_t slot = size_t(r) * size_t(k) + size_t(s);

@@ -21,9 +21,6 @@ class SkinGrid;  // interp/skin_grid.h
 
 class PartingField;
 
-/// Largest number of guides per root (InterpolationSettings::k must be in [1, max_influences]).
-inline constexpr int max_influences = 16;
-
 /// Which guides influence each root and how much; computed once on the rest pose. Arrays marked
 /// "#roots * k" hold slot s of root r at index r * k + s; unused slots have guide id -1 and weight 0,
 /// and used slots come first, ordered by decreasing weight.
@@ -57,7 +54,7 @@ struct Binding {
 /// given (may be null). Weights fall off as 1/d^falloff (fur, linear) or 1/d (streamline, the law
 /// that keeps the ratio of distances), faded to 0 at the (k+1)-th guide so they are continuous over
 /// the surface; a guide root at distance ~0 takes all the weight.
-/// Throws InputError for k outside [1, max_influences], no guides, or a zone with roots and no guide.
+/// Throws InputError for k outside [1, max_guides_per_root], no guides, or a zone with roots and no guide.
 Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, const InterpolationSettings &settings,
              const PartingField *partings = nullptr);
 

@@ -20,8 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The largest count a groom may ask for (roots): beyond this a typo, not a groom.
-constexpr int64_t max_count = 100'000'000;
 /// Seeds go through a double while parsed, so they are limited to the integers a double holds exactly.
 constexpr int64_t max_seed = (int64_t(1) << 53);
 constexpr int max_points_per_strand = 65536;
@@ -39,8 +37,6 @@ constexpr float max_falloff = 4.0f;
 /// Uniform scale of the emitter's rigid keys: within [1/100, 100] a posed coordinate stays below
 /// ~3.5e8 (squares ~1e17) and a valid rest triangle keeps a non-zero float area.
 constexpr float min_key_scale = 0.01f, max_key_scale = 100.0f;
-/// interp/interpolate.h's max_influences: growth keeps the guides of a root in fixed slots.
-constexpr int max_guides_per_root = 16;
 
 std::string format_number(double v) {
   char buf[32];
@@ -337,8 +333,8 @@ void GroomReader::read_roots(YamlMap &root, GroomDesc &groom) {
     if (roots.given("count") == roots.given("density"))
       fail_expected(file_, root.node("roots"), "roots", "one of count, density or file");
     r.source = RootSettings::Source::scatter;
-    r.count = roots.integer("count", r.count, 1, max_count);
-    r.density = roots.number_in("density", r.density, 0.0, double(max_count));
+    r.count = roots.integer("count", r.count, 1, max_root_count);
+    r.density = roots.number_in("density", r.density, 0.0, double(max_root_count));
     r.groups = roots.string_list("groups");
     r.near_guides = at_least_double(roots, "near_guides", r.near_guides, 0.0);
   }

@@ -59,7 +59,7 @@ struct Raster {
     }
   }
   int y_end() const { return y_begin + rows; }
-  /// The pixel (x, y) of the whole raster, y in [y_begin, y_end()].
+  /// The pixel (x, y) of the whole raster, y in [y_begin, y_end()).
   size_t index(int x, int y) const { return size_t(y - y_begin) * size_t(size) + size_t(x); }
 };
 

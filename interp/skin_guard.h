@@ -85,9 +85,7 @@ class SkinGuard {
     }
     // Only "p is outside by the margin" is needed, not p's distance (clear_by_ball). Twice the least
     // radius that can prove it leaves some room for the next points.
-    if (known_distance_ > 0.0f &&
-        clear_by_ball(p, 2.0f * std::max(margin_, moved - known_distance_), known_distance_, moved))
-      return;
+    if (clear_by_ball(p, 2.0f * std::max(margin_, moved - known_distance_), known_distance_, moved)) return;
     SurfacePoint closest;
     float distance = 0.0f;
     if (grid_) {

@@ -63,13 +63,13 @@ inline RunResult run_plume(const std::string &args, const ScratchDir &scratch) {
 
 /// run_plume() under an address-space limit (KiB, default 2 GB) and a 60 s timeout, for inputs that
 /// once made plume allocate without bound or loop: a regression then fails (exit 1 or 124) instead
-/// of taking the machine. Two OpenMP threads and two malloc arenas, so that the address space a
-/// run reserves (a stack per thread, up to 64 MB per arena) does not grow with the machine's cores.
+/// of taking the machine. Two OpenMP threads (OMP_NUM_THREADS = `omp_threads`) and two malloc
+/// arenas, so that the address space a run reserves (a stack per thread, up to 64 MB per arena)
+/// does not grow with the machine's cores.
 inline RunResult run_plume_bounded(const std::string &args, const ScratchDir &scratch,
-                                   long long address_space_kib = 2000000) {
-  return run_plume_command("ulimit -v " + std::to_string(address_space_kib) +
-                               "; OMP_NUM_THREADS=2 MALLOC_ARENA_MAX=2 exec timeout 60 " + quoted(PLUME_BINARY) +
-                               " " + args,
+                                   long long address_space_kib = 2000000, const std::string &omp_threads = "2") {
+  return run_plume_command("ulimit -v " + std::to_string(address_space_kib) + "; OMP_NUM_THREADS=" + omp_threads +
+                               " MALLOC_ARENA_MAX=2 exec timeout 60 " + quoted(PLUME_BINARY) + " " + args,
                            scratch);
 }
 

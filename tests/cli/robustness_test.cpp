@@ -51,36 +51,27 @@ TEST_CASE("--threads or OMP_NUM_THREADS beyond 1024 is rejected before any threa
   ScratchDir scratch("threads_bound");
   const std::string groom = write_sintel_groom(scratch, "g", "");
   const fs::path out = scratch.path / "out";
-  for (const std::string threads : {"1025", "32768", "100000"}) {
-    require_rejected("regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda") +
-                         " --threads " + threads,
-                     "--threads", scratch, out);
-    require_rejected("preview " + quoted(groom) + " --size 64 --out " + quoted(out.string() + "/p.png") +
-                         " --threads " + threads,
-                     "--threads", scratch, out);
-    require_rejected("check " + quoted(sintel_dir() + "/sintel_guides.hair") + " --mesh " +
-                         quoted(sintel_dir() + "/sintel.obj") + " --threads " + threads,
-                     "--threads", scratch, out);
-  }
+  const std::string regrow = "regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda");
+  const std::string preview = "preview " + quoted(groom) + " --size 64 --out " + quoted(out.string() + "/p.png");
+  const std::string check = "check " + quoted(sintel_dir() + "/sintel_guides.hair") + " --mesh " +
+                            quoted(sintel_dir() + "/sintel.obj") + " --tolerance 0.01";
+  for (const std::string threads : {"1025", "32768", "100000"})
+    for (const std::string &command : {regrow, preview, check})
+      require_rejected(command + " --threads " + threads, "--threads", scratch, out);
   require_rejected("simulate " + quoted(write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1}\n")) +
                        " --frames 1 --cache " + quoted(out.string() + "/c.#.hair") + " --threads 100000",
                    "--threads", scratch, out);
   // The same bound on OMP_NUM_THREADS, which sets the count when --threads is not given (this
   // crashed libgomp); --threads still overrides it.
-  const std::string check = " check " + quoted(sintel_dir() + "/sintel_guides.hair") + " --mesh " +
-                            quoted(sintel_dir() + "/sintel.obj") + " --tolerance 0.01";
-  const std::string regrow = " regrow " + quoted(groom) + " --frames 1 --out " + quoted(out.string() + "/h.usda");
-  for (const std::string args : {check, regrow}) {
-    INFO(args);
-    const RunResult run = run_plume_command(
-        "ulimit -v 2000000; OMP_NUM_THREADS=100000 exec timeout 60 " + quoted(PLUME_BINARY) + args, scratch);
+  for (const std::string &command : {check, regrow}) {
+    INFO(command);
+    const RunResult run = run_plume_bounded(command, scratch, 2000000, "100000");
     INFO(run.err);
     CHECK(run.exit_code == 2);
     CHECK(run.err.find("OMP_NUM_THREADS: expected at most 1024 threads (as --threads), got 100000") != std::string::npos);
     CHECK(files_in(out).empty());
   }
-  const RunResult overridden = run_plume_command(
-      "OMP_NUM_THREADS=100000 exec timeout 60 " + quoted(PLUME_BINARY) + check + " --threads 2", scratch);
+  const RunResult overridden = run_plume_bounded(check + " --threads 2", scratch, 2000000, "100000");
   INFO(overridden.err);
   CHECK(overridden.exit_code == 0);
 }

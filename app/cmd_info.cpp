@@ -1,6 +1,7 @@
 // `plume info FILE`: what a strand file, an emitter mesh or a groom file holds.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -25,6 +26,10 @@ std::string bounds_text(const Eigen::AlignedBox3f &box) {
 
 // An OBJ holds a mesh when it has faces; one with only `l` lines holds strands.
 bool obj_has_faces(const std::string &path) {
+  // A device (/dev/zero) has no end to scan to, and a pipe waits for a writer.
+  std::error_code error;
+  if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
+    throw InputError(FileLoc{path}, "cannot read file: not a regular file");
   std::ifstream in(path);
   if (!in) throw InputError(FileLoc{path}, "cannot open the file");
   std::string line;

@@ -6,9 +6,16 @@
 #include <cstdio>
 #include <memory>
 
+#include <sys/stat.h>
+
 namespace plume::io::detail {
 
 std::string read_file_bytes(const std::string &path) {
+  // Only a regular file has an end to read to: a device such as /dev/zero would be read until memory
+  // runs out, and a pipe would wait for a writer (before opening it, which waits too).
+  struct stat status;
+  if (stat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode))
+    throw InputError(FileLoc{path}, "cannot read file: not a regular file");
   std::unique_ptr<FILE, int (*)(FILE *)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) throw InputError(FileLoc{path}, std::string("cannot open file: ") + std::strerror(errno));
   std::string bytes;

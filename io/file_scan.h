@@ -17,7 +17,8 @@ namespace plume::io::detail {
 
 static_assert(std::endian::native == std::endian::little, "the binary readers assume a little-endian host");
 
-/// The whole file as bytes. Throws InputError naming the file when it is missing or unreadable.
+/// The whole file as bytes. Throws InputError naming the file when it is missing, unreadable or not a
+/// regular file (a device or a pipe).
 std::string read_file_bytes(const std::string &path);
 
 /// Lower-case extension with its dot (".usda"), or "" when the name has none.

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <functional>
 
+#include <sys/stat.h>
+
 #include "cli/cli_fixtures.h"
 
 using namespace plume::cli_test;
@@ -131,6 +133,27 @@ TEST_CASE("check refuses a guide file without strands instead of skipping the de
   INFO(run.out << run.err);
   CHECK(run.exit_code == 2);
   CHECK(run.err.find("--guides: " + empty + " holds no strands") != std::string::npos);
+}
+
+TEST_CASE("input files that are devices or pipes are refused instead of read without end", "[cli]") {
+  ScratchDir scratch("device_inputs");
+  const std::string guides = quoted(sintel_dir() + "/sintel_guides.hair");
+  const std::string mesh = quoted(sintel_dir() + "/sintel.obj");
+  // /dev/zero behind names a reader takes by extension, and a pipe nobody writes to.
+  const std::string zero_obj = scratch / "zero.obj", zero_hair = scratch / "zero.hair", pipe = scratch / "pipe.obj";
+  fs::create_symlink("/dev/zero", zero_obj);
+  fs::create_symlink("/dev/zero", zero_hair);
+  REQUIRE(mkfifo(pipe.c_str(), 0600) == 0);
+  for (const std::string &args :
+       {"info " + quoted(zero_obj), "info " + quoted(zero_hair), "info " + quoted(pipe),
+        "check " + quoted(zero_hair) + " --mesh " + mesh, "check " + guides + " --mesh " + quoted(zero_obj),
+        "check " + guides + " --mesh " + quoted(pipe), "check " + guides + " --mesh " + mesh + " --guides " + quoted(zero_hair)}) {
+    INFO("plume " << args);
+    const RunResult run = run_plume_bounded(args, scratch);
+    INFO(run.err);
+    CHECK(run.exit_code == 2);
+    CHECK(run.err.find("not a regular file") != std::string::npos);
+  }
 }
 
 TEST_CASE("simulate names the groom file when the groom has no dynamics", "[cli]") {

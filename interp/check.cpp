@@ -188,6 +188,21 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
   }
   for (size_t q = 0; q < piece_count; ++q) entry_first[q + 1] += entry_first[q];
   const size_t entry_count = entry_first[piece_count];
+  // A piece's box spans at most three cells per axis (a piece is no longer than a cell, and the
+  // tolerance at most half of one), 27 entries, unless the slack for rounding is wider than a cell:
+  // strands far from the origin, whose float coordinates are coarser than the tolerance. The
+  // entries would then outgrow memory before any comparison: refuse.
+  if (double(entry_count) > kCrossingEntriesPerPiece * double(piece_count)) {
+    const float reach = std::max(bounds.min().cwiseAbs().maxCoeff(), bounds.max().cwiseAbs().maxCoeff());
+    char message[400];
+    std::snprintf(message, sizeof message,
+                  "the strands reach %g from the origin, where float rounding (about %g) is coarser than the "
+                  "tolerance and the crossing grid's cells (%g): %.0f grid entries per segment piece, over the "
+                  "budget of %.0f (check strands placed near the origin, or with a tolerance above the rounding)",
+                  double(reach), double(reach) * 6e-8, double(cell), double(entry_count) / double(piece_count),
+                  kCrossingEntriesPerPiece);
+    throw InputError(message);
+  }
   std::vector<uint64_t> entries(entry_count), scratch(entry_count);  // key << 32 | piece
 #pragma omp parallel for schedule(static)
   for (int64_t q = 0; q < int64_t(piece_count); ++q) {

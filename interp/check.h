@@ -71,6 +71,11 @@ struct CheckReport {
 /// Sintel strands); near the budget the work is still linear in the segments (12.8 CPU seconds,
 /// 110 MB for those 330k segments at tolerance 0.28), where a tolerance near the strands' spacing would compare nearly all pairs.
 inline constexpr double kCrossingPiecePairsPerSegment = 2000.0;
+/// The crossing grid's memory budget: a segment piece's grown box spans at most 27 cells (3 per
+/// axis) unless the slack for float rounding is wider than a cell (strands far from the origin
+/// checked with a tolerance below their coordinates' rounding). count_crossings refuses more than
+/// this many cell entries per piece, before allocating them.
+inline constexpr double kCrossingEntriesPerPiece = 64.0;
 
 struct CrossingCount {
   size_t pairs = 0;  // unordered strand pairs
@@ -96,7 +101,9 @@ size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, flo
 /// density, never with all pairs. Memory is linear in the segments whatever the number of crossing
 /// pairs: each strand pair is counted at one witness segment pair, no set of pairs is stored.
 /// Throws InputError when the binned piece pairs exceed kCrossingPiecePairsPerSegment per segment
-/// (a tolerance near or above the strands' spacing, where nearly all pairs would be compared).
+/// (a tolerance near or above the strands' spacing, where nearly all pairs would be compared), or the
+/// grid's entries kCrossingEntriesPerPiece per piece (strands so far from the origin that their
+/// rounding dwarfs the tolerance).
 CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t max_examples);
 
 /// (root, guide) slots of `binding` with a non-zero weight whose guide lies in another hard zone than

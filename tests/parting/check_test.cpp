@@ -145,6 +145,23 @@ TEST_CASE("a tolerance beyond the crossing budget is refused before any comparis
   CHECK(double(count.piece_pairs_binned) < 0.05 * kCrossingPiecePairsPerSegment * 6000.0);
 }
 
+TEST_CASE("strands too far from the origin for the tolerance are refused before the grid is allocated", "[check]") {
+  // The wavy field scaled up 20 times (strands 0.3 apart, segments 0.6 long: cells of 0.2), then
+  // moved 1e6 away: float coordinates there are 0.06 apart, and the rounding slack of a piece's
+  // box (1e-6 of its coordinates, about 1.7) spans some 18 cells per axis.
+  auto field_at = [](float offset) {
+    StrandSet strands = wavy_field(4, 0.015f);
+    for (Eigen::Vector3f &p : strands.positions) p = 20.0f * p + Eigen::Vector3f::Constant(offset);
+    return strands;
+  };
+  CHECK_THROWS_AS(count_crossings(field_at(1e6f), 0.001f, 8), InputError);
+  CHECK_THROWS_WITH(count_crossings(field_at(1e6f), 0.001f, 8), Catch::Contains("from the origin"));
+  // Near the origin, or a moderate distance from it (rounding well below a cell), the same strands
+  // are counted: only a grid that the rounding dominates is refused.
+  CHECK(count_crossings(field_at(0.0f), 0.001f, 8).pairs == 0);
+  CHECK(count_crossings(field_at(1e3f), 0.001f, 8).pairs == 0);
+}
+
 TEST_CASE("the checker counts influence across hard zones from a binding", "[check]") {
   const Mesh mesh = make_grid(10);
   const MeshQuery query(mesh);

@@ -283,22 +283,59 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
   // overlap. Every piece pair with overlapping boxes is tested exactly once, and two segments
   // within the tolerance have overlapping piece boxes, so each crossing strand pair meets its
   // witness exactly once: the count needs no stored set of pairs, whatever it amounts to.
-  const auto is_witness = [&](uint32_t p, uint32_t q, uint32_t i, uint32_t j) {
+  // The first crossing segment pair (i, j) of strands a < b in that order, or none. Strand b's
+  // segments are scanned in blocks under one box each, so a segment of a far from most of b costs a
+  // few box tests; a box is set aside when it is farther than the tolerance from the segment's box.
+  struct FirstCrossing {
+    uint64_t strands = ~uint64_t(0);  // a << 32 | b, or none
+    uint32_t i = 0, j = 0;
+  };
+  constexpr uint32_t kBlock = 64;
+  const auto first_crossing = [&](uint32_t sa, uint32_t sb, std::vector<Eigen::AlignedBox3f> &r_block_boxes) {
+    const auto segment_box = [&](uint32_t i) {
+      const Vector3f &a0 = strands.positions[segment_start[i]], &a1 = strands.positions[segment_start[i] + 1];
+      return Eigen::AlignedBox3f(a0.cwiseMin(a1), a0.cwiseMax(a1));
+    };
+    const uint32_t b_first = strand_first_segment[sb], b_end = strand_first_segment[sb + 1];
+    r_block_boxes.clear();
+    for (uint32_t start = b_first; start < b_end; start += kBlock) {
+      Eigen::AlignedBox3f box = segment_box(start);
+      for (uint32_t j2 = start + 1; j2 < std::min(start + kBlock, b_end); ++j2) box.extend(segment_box(j2));
+      r_block_boxes.push_back(box);
+    }
+    const auto far = [&](const Eigen::AlignedBox3f &box, const Eigen::Array3f &low, const Eigen::Array3f &high) {
+      return (box.min().array() > high).any() || (box.max().array() < low).any();
+    };
+    for (uint32_t i2 = strand_first_segment[sa]; i2 < strand_first_segment[sa + 1]; ++i2) {
+      const Eigen::AlignedBox3f a_box = segment_box(i2);
+      const Eigen::Array3f low = a_box.min().array() - tolerance, high = a_box.max().array() + tolerance;
+      for (size_t block = 0; block < r_block_boxes.size(); ++block) {
+        if (far(r_block_boxes[block], low, high)) continue;
+        const uint32_t start = b_first + uint32_t(block) * kBlock;
+        for (uint32_t j2 = start; j2 < std::min(start + kBlock, b_end); ++j2)
+          if (!far(segment_box(j2), low, high) && segments_cross(i2, j2))
+            return FirstCrossing{uint64_t(sa) << 32 | uint64_t(sb), i2, j2};
+      }
+    }
+    return FirstCrossing{};
+  };
+  // A strand pair is counted once, at its witness: the first crossing segment pair (i, j) of the
+  // two strands in the order of (i, j), at the first of their piece pairs (p, q) whose boxes
+  // overlap. Every piece pair with overlapping boxes is tested exactly once, and two segments
+  // within the tolerance have overlapping piece boxes, so each crossing strand pair meets its
+  // witness exactly once: the count needs no stored set of pairs, whatever it amounts to. The first
+  // crossing of a strand pair is searched once and kept in a small per-thread table (a strand pair
+  // that runs side by side is met at many segment pairs), so memory stays bounded.
+  constexpr size_t kFirstCrossingSlots = 256;
+  const auto is_witness = [&](uint32_t p, uint32_t q, uint32_t i, uint32_t j, std::vector<FirstCrossing> &r_known,
+                              std::vector<Eigen::AlignedBox3f> &r_block_boxes) {
     for (uint32_t p2 = piece_first[i]; p2 <= p; ++p2)
       for (uint32_t q2 = piece_first[j]; q2 < piece_first[j + 1] && (p2 < p || q2 < q); ++q2)
         if (boxes_overlap(p2, q2)) return false;
-    // Earlier segment pairs, the far ones set aside by their boxes grown by the tolerance.
-    const uint32_t sb = segment_strand[j];
-    for (uint32_t i2 = strand_first_segment[segment_strand[i]]; i2 <= i; ++i2) {
-      const Vector3f &a0 = strands.positions[segment_start[i2]], &a1 = strands.positions[segment_start[i2] + 1];
-      const Eigen::Array3f low = a0.cwiseMin(a1).array() - tolerance, high = a0.cwiseMax(a1).array() + tolerance;
-      for (uint32_t j2 = strand_first_segment[sb]; j2 < strand_first_segment[sb + 1] && (i2 < i || j2 < j); ++j2) {
-        const Vector3f &b0 = strands.positions[segment_start[j2]], &b1 = strands.positions[segment_start[j2] + 1];
-        if ((b0.cwiseMin(b1).array() > high).any() || (b0.cwiseMax(b1).array() < low).any()) continue;
-        if (segments_cross(i2, j2)) return false;
-      }
-    }
-    return true;
+    const uint64_t pair = uint64_t(segment_strand[i]) << 32 | uint64_t(segment_strand[j]);
+    FirstCrossing &known = r_known[size_t(hash64(pair) % kFirstCrossingSlots)];
+    if (known.strands != pair) known = first_crossing(segment_strand[i], segment_strand[j], r_block_boxes);
+    return known.strands == pair && known.i == i && known.j == j;
   };
 
   // Compare the pieces of a cell pairwise. A pair is tested only in the cell holding the lowest
@@ -321,6 +358,8 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
     std::vector<Eigen::Vector3i> low_cells;
     std::vector<uint32_t> pieces, segments, owners;
     std::vector<std::pair<float, uint32_t>> sweep;
+    std::vector<FirstCrossing> known_first(kFirstCrossingSlots);
+    std::vector<Eigen::AlignedBox3f> block_boxes;
 #pragma omp for schedule(dynamic, 256)
     for (int64_t c = 0; c < busy_cells; ++c) {
       bool stop = false;
@@ -369,7 +408,8 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
             // Lower segment first: the distance is then computed exactly as the rule defines it.
             const bool u_first = segments[u] < segments[w];
             const uint32_t i = u_first ? segments[u] : segments[w], j = u_first ? segments[w] : segments[u];
-            if (!segments_cross(i, j) || !is_witness(u_first ? pieces[u] : pieces[w], u_first ? pieces[w] : pieces[u], i, j))
+            if (!segments_cross(i, j) || !is_witness(u_first ? pieces[u] : pieces[w], u_first ? pieces[w] : pieces[u], i, j, known_first,
+                                                                                    block_boxes))
               continue;
             ++found;
             const uint64_t pair = uint64_t(segment_strand[i]) << 32 | uint64_t(segment_strand[j]);

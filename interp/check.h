@@ -99,7 +99,8 @@ size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, flo
 /// thinnest axis compares only overlapping pieces, each pair once (in the cell holding the lowest
 /// corner of the overlap of their boxes). Cost grows with the number of segments times the local
 /// density, never with all pairs. Memory is linear in the segments whatever the number of crossing
-/// pairs: each strand pair is counted at one witness segment pair, no set of pairs is stored.
+/// pairs: each strand pair is counted at one witness segment pair (its first crossing, searched once
+/// per strand pair with block boxes and kept in a small per-thread table), no set of pairs is stored.
 /// Throws InputError when the binned piece pairs exceed kCrossingPiecePairsPerSegment per segment
 /// (a tolerance near or above the strands' spacing, where nearly all pairs would be compared), or the
 /// grid's entries kCrossingEntriesPerPiece per piece (strands so far from the origin that their

@@ -467,3 +467,31 @@ TEST_CASE("check refuses a crossing tolerance that would compare nearly every pa
   CHECK(counted.exit_code == 0);
   CHECK(counted.out.find("crossing strand pairs") != std::string::npos);
 }
+
+TEST_CASE("check counts long strands running side by side once each, without a search per segment pair", "[cli]") {
+  // Two strands of 65,536 points, 1 apart along the first half of their length and 0.0005 apart
+  // along the second: at tolerance 0.001 every segment of one's second half crosses its neighbours
+  // on the other. Each crossing segment pair used to search all the earlier segment pairs of the
+  // two strands for the strand pair's witness (the first half of one against all of the other, for
+  // each of some 200,000 crossing pairs: days); the first crossing is now searched once per strand
+  // pair.
+  ScratchDir scratch("check_long_strands");
+  const std::string path = scratch / "long.obj";
+  {
+    std::ofstream file(path);
+    constexpr int kPoints = 65536;
+    for (int s = 0; s < 2; ++s)
+      for (int i = 0; i < kPoints; ++i)
+        file << "v " << 10.0 * i / (kPoints - 1) << " " << 100.0 + (i < kPoints / 2 ? 1.0 : 0.0005) * s << " 0\n";
+    for (int s = 0; s < 2; ++s) {
+      file << "l";
+      for (int i = 1; i <= kPoints; ++i) file << " " << s * kPoints + i;
+      file << "\n";
+    }
+  }
+  const RunResult run = run_plume_bounded(
+      "check " + quoted(path) + " --mesh " + quoted(sintel_dir() + "/sintel.obj") + " --tolerance 0.001", scratch);
+  INFO(run.out << run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(run.out.find("crossing strand pairs (tolerance 0.001): 1  0/1") != std::string::npos);
+}

@@ -278,11 +278,6 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
   const auto boxes_overlap = [&](uint32_t p, uint32_t q) {
     return !(piece_low[p].array() > piece_high[q].array()).any() && !(piece_low[q].array() > piece_high[p].array()).any();
   };
-  // A strand pair is counted once, at its witness: the first crossing segment pair (i, j) of the
-  // two strands in the order of (i, j), at the first of their piece pairs (p, q) whose boxes
-  // overlap. Every piece pair with overlapping boxes is tested exactly once, and two segments
-  // within the tolerance have overlapping piece boxes, so each crossing strand pair meets its
-  // witness exactly once: the count needs no stored set of pairs, whatever it amounts to.
   // The first crossing segment pair (i, j) of strands a < b in that order, or none. Strand b's
   // segments are scanned in blocks under one box each, so a segment of a far from most of b costs a
   // few box tests; a box is set aside when it is farther than the tolerance from the segment's box.
@@ -408,9 +403,8 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
             // Lower segment first: the distance is then computed exactly as the rule defines it.
             const bool u_first = segments[u] < segments[w];
             const uint32_t i = u_first ? segments[u] : segments[w], j = u_first ? segments[w] : segments[u];
-            if (!segments_cross(i, j) || !is_witness(u_first ? pieces[u] : pieces[w], u_first ? pieces[w] : pieces[u], i, j, known_first,
-                                                                                    block_boxes))
-              continue;
+            const uint32_t p = u_first ? pieces[u] : pieces[w], q = u_first ? pieces[w] : pieces[u];
+            if (!segments_cross(i, j) || !is_witness(p, q, i, j, known_first, block_boxes)) continue;
             ++found;
             const uint64_t pair = uint64_t(segment_strand[i]) << 32 | uint64_t(segment_strand[j]);
             if (examples.size() < max_examples || (!examples.empty() && pair < examples.back())) {

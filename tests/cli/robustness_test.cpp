@@ -25,6 +25,15 @@ void require_rejected(const std::string &args, const std::string &message, const
   CHECK(files_in(out).empty());
 }
 
+/// Runs `args` (bounded) and checks exit 0 and that it wrote `written`.
+void require_written(const std::string &args, const fs::path &written, const ScratchDir &scratch) {
+  INFO("plume " << args);
+  const RunResult run = run_plume_bounded(args, scratch);
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(fs::exists(written));
+}
+
 }  // namespace
 
 TEST_CASE("frame numbers beyond nine digits are rejected, as in a groom's output.frames", "[cli]") {
@@ -42,11 +51,8 @@ TEST_CASE("frame numbers beyond nine digits are rejected, as in a groom's output
   require_rejected("preview " + quoted(groom) + " --frame 1000000000 --out " + quoted(out.string() + "/p.png"),
                    "--frame", scratch, out);
   // The largest frame is a frame like any other.
-  const RunResult run = run_plume_bounded(
-      "regrow " + quoted(groom) + " --frames 999999999 --strands 20 --out " + quoted(scratch / "h.#.hair"), scratch);
-  INFO(run.err);
-  CHECK(run.exit_code == 0);
-  CHECK(fs::exists(scratch / "h.999999999.hair"));
+  require_written("regrow " + quoted(groom) + " --frames 999999999 --strands 20 --out " + quoted(scratch / "h.#.hair"),
+                  scratch.path / "h.999999999.hair", scratch);
 }
 
 TEST_CASE("--threads or OMP_NUM_THREADS beyond 1024 is rejected before any thread is started", "[cli]") {
@@ -224,12 +230,8 @@ TEST_CASE("every output location of a run is checked before the first file is wr
   require_rejected("preview " + quoted(groom) + " --size 64 --out " + quoted(scratch / "notadir/p.png"),
                    "notadir is not a directory", scratch, out);
   // Folders that do not exist yet are made.
-  const RunResult run = run_plume_bounded("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --out " +
-                                              quoted(scratch / "new/deep/h.####.hair"),
-                                          scratch);
-  INFO(run.err);
-  CHECK(run.exit_code == 0);
-  CHECK(fs::exists(scratch / "new/deep/h.0002.hair"));
+  require_written("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --out " + quoted(scratch / "new/deep/h.####.hair"),
+                  scratch.path / "new/deep/h.0002.hair", scratch);
 }
 
 TEST_CASE("every needed guide-cache frame is read and checked before the first file is written", "[cli]") {

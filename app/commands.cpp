@@ -59,9 +59,11 @@ void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size
 }
 
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {
-  if (!option.empty()) return parse_frame_range(option, "--frames");
-  if (!groom.output.frames.empty()) return parse_frame_range(groom.output.frames, groom.source + ": output.frames");
-  return FrameRange{};
+  const std::string what = !option.empty() ? "--frames" : groom.source + ": output.frames";
+  if (option.empty() && groom.output.frames.empty()) return FrameRange{};
+  const FrameRange range = parse_frame_range(!option.empty() ? option : groom.output.frames, what);
+  check_frames_per_run(range, what);
+  return range;
 }
 
 int groom_first_frame(const GroomDesc &groom) {

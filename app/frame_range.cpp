@@ -88,6 +88,14 @@ FrameRange parse_frame_range(const std::string &text, const std::string &what) {
   return range;
 }
 
+void check_frames_per_run(const FrameRange &range, const std::string &what) {
+  if (range.count() > kMaxFramesPerRun)
+    throw InputError(what + ": frames " + std::to_string(range.first) + " to " + std::to_string(range.last) +
+                     (range.step > 1 ? " every " + std::to_string(range.step) : "") + " are " +
+                     std::to_string(range.count()) + " frames, expected at most " + std::to_string(kMaxFramesPerRun) +
+                     " in one run (run a long shot in chunks of frames)");
+}
+
 bool has_frame_field(const std::string &pattern) { return find_frame_field(pattern).begin != std::string::npos; }
 
 std::string expand_frame_pattern(const std::string &pattern, int frame) {

@@ -12,6 +12,12 @@ namespace plume {
 /// output.frames allows. Frames lie in [-kMaxFrame, kMaxFrame], so first + step never overflows an int.
 inline constexpr int kMaxFrame = 999999999;
 
+/// The most frames one run writes, and the most it simulates beyond a groom's largest
+/// dynamics.preroll (100,000): over an hour at 24 fps. Every frame's output location is checked
+/// before the first is written, so a billion-frame range would spend hours in checks alone; longer
+/// shots are run in chunks (--frames), each a farm task.
+inline constexpr int64_t kMaxFramesPerRun = 100000;
+
 /// Frames first..last (inclusive) every `step`; first <= last, step >= 1, all within +-kMaxFrame.
 /// A range may hold up to 2e9 frames: walk it by index (at()) rather than listing it.
 struct FrameRange {
@@ -28,6 +34,9 @@ struct FrameRange {
 /// Parses "A", "A-B" or "A-B:S" (A, B may be negative: "-5-10"). Throws InputError naming `what`
 /// (e.g. "--frames") for anything else, for B < A, for S < 1 and for a number beyond kMaxFrame.
 FrameRange parse_frame_range(const std::string &text, const std::string &what);
+
+/// Throws InputError naming `what` when `range` holds more than kMaxFramesPerRun frames.
+void check_frames_per_run(const FrameRange &range, const std::string &what);
 
 /// True when `pattern` holds a frame field: a run of '#' or a printf field %d / %0Nd.
 bool has_frame_field(const std::string &pattern);

@@ -222,6 +222,17 @@ StrandSet Pipeline::read_cached_guides(int frame) const {
 
 void Pipeline::check_frame_inputs(const FrameRange &range) const {
   const bool cached = groom_.dynamics.enabled && !options_.guides_cache.empty();
+  if (groom_.dynamics.enabled && !cached) {
+    // Simulation is sequential: the last frame is reached from the simulation's start.
+    const int64_t start = std::min(options_.simulation_start, range.first);
+    if (int64_t(range.last) - start + 1 > kMaxFramesPerRun)
+      throw InputError(groom_.dynamics.loc.file.empty() ? FileLoc{groom_.source} : groom_.dynamics.loc,
+                       "dynamics: frame " + std::to_string(range.last) + " is simulated from rest at frame " +
+                           std::to_string(start) + " (the first of output.frames, or of the frames asked for when "
+                           "earlier), " + std::to_string(int64_t(range.last) - start + 1) +
+                           " frames, expected at most " + std::to_string(kMaxFramesPerRun) +
+                           " in one run besides dynamics.preroll (start output.frames nearer)");
+  }
   if (cached) {
     check_frame_pattern(options_.guides_cache, range, "--guides-cache");
     for (int64_t i = 0; i < range.count(); ++i) read_cached_guides(range.at(i));

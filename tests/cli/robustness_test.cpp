@@ -55,6 +55,38 @@ TEST_CASE("frame numbers beyond nine digits are rejected, as in a groom's output
                   scratch.path / "h.999999999.hair", scratch);
 }
 
+TEST_CASE("a run that writes or simulates more than 100000 frames is rejected before any check or work",
+          "[cli]") {
+  ScratchDir scratch("frames_per_run");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  const std::string far = write_sintel_groom(scratch, "far", "output: {frames: \"-999999999-1\"}\n");
+  const std::string dyn = write_sintel_groom(scratch, "dyn", "dynamics: {substeps: 1, preroll: 5}\n");
+  const fs::path out = scratch.path / "out";
+  const std::string dest = " --out " + quoted(out.string() + "/h.#.usda");
+  // Every frame's output location is checked before the first is written: a billion frames would
+  // take hours there, without a word.
+  for (const std::string frames : {"1-999999999", "-999999999-999999999", "1-100001", "0-200000:2"}) {
+    require_rejected("regrow " + quoted(groom) + " --frames " + frames + dest, "--frames: frames", scratch, out);
+    require_rejected("simulate " + quoted(dyn) + " --frames " + frames + " --cache " + quoted(out.string() + "/c.#.hair"),
+                     "expected at most 100000 in one run", scratch, out);
+  }
+  require_rejected("regrow " + quoted(far) + dest, "far.groom.yaml: output.frames: frames -999999999 to 1 are 1000000001",
+                   scratch, out);
+  // A step keeps the count down: 9 frames spread over a billion are 9 frames.
+  require_written("regrow " + quoted(groom) + " --frames 1-999999999:111111111 --strands 20 --out " +
+                      quoted(scratch / "s.#.hair"),
+                  scratch.path / "s.888888889.hair", scratch);
+  // Dynamics simulate from the groom's first frame (1) to the last frame asked for: one frame far
+  // away is 100,001 frames of simulation (its preroll aside).
+  for (const std::string &command :
+       {"regrow " + quoted(dyn) + " --frames 100001" + dest,
+        "regrow " + quoted(dyn) + " --frames 99999-100001" + dest,
+        "simulate " + quoted(dyn) + " --frames 100001 --cache " + quoted(out.string() + "/c.#.hair"),
+        "preview " + quoted(dyn) + " --frame 100001 --out " + quoted(out.string() + "/p.png")})
+    require_rejected(command, "dyn.groom.yaml:12:11: dynamics: frame 100001 is simulated from rest at frame 1", scratch,
+                     out);
+}
+
 TEST_CASE("--threads or OMP_NUM_THREADS beyond 1024 is rejected before any thread is started", "[cli]") {
   ScratchDir scratch("threads_bound");
   const std::string groom = write_sintel_groom(scratch, "g", "");

@@ -135,6 +135,21 @@ TEST_CASE("--strands beyond 100,000,000 roots is rejected, as a groom's roots.co
   std::ofstream(dense) << text;
   require_rejected("regrow " + quoted(dense) + " --frames 1 --out " + quoted(out.string() + "/h.usda"), "roots.density",
                    scratch, out);
+  // Counts within the bound that no machine's memory holds (1e8 strands of 4,096 points: over 10 TB)
+  // are refused before roots are scattered, naming the count's source, instead of an allocation
+  // failure or swapping after minutes of work.
+  text = read_text(groom);
+  text.replace(text.find("points: 8"), 9, "points: 4096");
+  text.replace(text.find("count: 400"), 10, "count: 100000000");
+  const std::string huge = scratch / "huge.groom.yaml";
+  std::ofstream(huge) << text;
+  const std::string huge_out = " --frames 1 --out " + quoted(out.string() + "/h.usda");
+  require_rejected("regrow " + quoted(huge) + huge_out, "huge.groom.yaml:10:8: roots.count: 100000000 strands of 4096 points need about",
+                   scratch, out);
+  require_rejected("regrow " + quoted(huge) + huge_out + " --strands 100000000",
+                   "--strands: 100000000 strands of 4096 points need about", scratch, out);
+  require_rejected("preview " + quoted(huge) + " --size 64 --out " + quoted(out.string() + "/p.png"),
+                   "GB of memory this run may use", scratch, out);
   // And a density too small to give a single root over that area.
   text = read_text(groom);
   text.replace(text.find("count: 400"), 10, "density: 1e-9");

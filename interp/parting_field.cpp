@@ -62,6 +62,10 @@ struct PartingField::Impl {
   std::vector<std::string> zone_names;
   std::vector<int> guide_zones;  // one per guide
   std::vector<SurfacePoint> guide_roots;
+  /// Where the groom's partings are written and the zone map file, if any (for messages).
+  FileLoc loc;
+  std::string zones_key;  // the groom key the zones come from
+  std::string zone_map_path;
 
   struct Partial {
     float gamma = 1.0f;
@@ -260,6 +264,9 @@ PartingField::PartingField(const Mesh &rest_mesh, const Guides &guides, const Pa
   const MeshTopology topology = build_topology(im.mesh);
   const MeshQuery query(im.mesh);
   im.build_zones(topology, query, settings);
+  im.loc = settings.loc;
+  im.zones_key = settings.zone_source == PartingSettings::ZoneSource::none ? "partings.lines" : "partings.zones";
+  if (settings.zone_source == PartingSettings::ZoneSource::zone_map) im.zone_map_path = settings.zone_map_path;
   if (im.zone_names.empty()) im.zone_names.push_back("surface");
   im.guide_zones.resize(guides.size());
   for (size_t g = 0; g < guides.size(); ++g) im.guide_zones[g] = zone_of(guides.roots[g]);
@@ -347,9 +354,14 @@ void PartingField::check_roots_have_guides(std::span<const SurfacePoint> roots) 
   for (const int z : impl_->guide_zones) has_guide[size_t(z)] = true;
   for (const SurfacePoint &root : roots) {
     const int z = zone_of(root);
-    if (!has_guide[size_t(z)])
-      throw InputError("hard parting zone " + zone_name(z) + " has roots but no guide: add a guide whose root is in " +
-                       "it, or keep roots out of it");
+    if (!has_guide[size_t(z)]) {
+      const std::string message =
+          impl_->zones_key + ": hard parting zone " + zone_name(z) +
+          (impl_->zone_map_path.empty() ? "" : " (of " + impl_->zone_map_path + ")") +
+          " has roots but no guide: add a guide whose root is in it, or keep roots out of it";
+      if (impl_->loc.file.empty()) throw InputError(message);
+      throw InputError(impl_->loc, message);
+    }
   }
 }
 

@@ -254,6 +254,13 @@ TEST_CASE("zones from a zone map file, with located errors", "[parting]") {
   REQUIRE(field.zone_count() == 2);
   CHECK(field.zone_name(field.guide_zone(0)) == "zone map id 7");
   CHECK(field.zone_name(field.guide_zone(1)) == "zone map id 3");
+  // A zone with roots and no guide names the groom's partings, the zone and the map file.
+  settings.loc = FileLoc{"head.groom.yaml", 12, 3};
+  const Guides left_only = make_standing_guides(query, {{-0.5f, 0.0f, 0}});
+  const PartingField one_sided(mesh, left_only, settings);
+  CHECK(message_of([&] { one_sided.check_roots_have_guides(scatter_roots(mesh, 200, 5).points); }) ==
+        "head.groom.yaml:12:3: partings.zones: hard parting zone zone map id 3 (of " + path +
+            ") has roots but no guide: add a guide whose root is in it, or keep roots out of it");
 
   {
     std::ofstream out(path);

@@ -25,6 +25,9 @@ struct EffectDesc {
   Ramp ramp;
   /// Limit to these face groups / zones (empty: everywhere).
   std::vector<std::string> groups;
+  /// Where `groups` is written and its key path ("effects[2].groups"), for messages.
+  FileLoc groups_loc;
+  std::string groups_key = "groups";
   /// Optional per-vertex scale map of the emitter: a text file with one number per vertex.
   std::string vertex_map_path;
 

@@ -469,6 +469,10 @@ EffectDesc GroomReader::read_effect(const YAML::Node &node, const std::string &p
   e.amount = between(m, "amount", e.amount, 0.0f, 1.0f);
   if (m.given("ramp")) e.ramp = ramp(m.node("ramp"), m.key_path("ramp"), 0.0f, 1.0f);
   e.groups = m.string_list("groups");
+  if (m.given("groups")) {
+    e.groups_loc = m.loc("groups");
+    e.groups_key = m.key_path("groups");
+  }
   if (m.given("map")) e.vertex_map_path = existing_file(m, "map", {});
 
   if (type == "clump") {

@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 
+#include "io/file_scan.h"
+
 namespace plume::io {
 
 namespace {
@@ -169,12 +171,20 @@ std::vector<std::string> YamlMap::string_list(const std::string &key) {
   std::vector<std::string> out;
   if (!has(key)) return out;
   const YAML::Node n = node_[key];
-  if (n.IsScalar()) return {n.Scalar()};
+  // Names (face groups, zones) are printed in messages and matched against OBJ names, which hold
+  // no control characters: a NUL or a line break here is a mistake, and would cut a message short.
+  auto name_of = [&](const YAML::Node &item, const std::string &path) {
+    if (!item.IsScalar()) fail_expected(file_, item, path, "a string");
+    const std::string &name = item.Scalar();
+    for (const char c : name)
+      if ((unsigned char)c < 32 || c == 127)
+        throw InputError(node_loc(file_, item),
+                         path + ": expected a name without control characters, got " + detail::quoted(name));
+    return name;
+  };
+  if (n.IsScalar()) return {name_of(n, key_path(key))};
   if (!n.IsSequence()) fail_expected(file_, n, key_path(key), "a list of strings");
-  for (size_t i = 0; i < n.size(); ++i) {
-    if (!n[i].IsScalar()) fail_expected(file_, n[i], key_path(key) + "[" + std::to_string(i) + "]", "a string");
-    out.push_back(n[i].Scalar());
-  }
+  for (size_t i = 0; i < n.size(); ++i) out.push_back(name_of(n[i], key_path(key) + "[" + std::to_string(i) + "]"));
   return out;
 }
 

@@ -516,7 +516,10 @@ TEST_CASE("face groups and vertex maps limit and scale an effect", "[effects]") 
   }
 
   wave.groups = {"nose"};
-  CHECK_THROWS_AS(EffectStack({wave}, s.mesh, s.roots, s.guides, s.nearest), InputError);
+  wave.groups_loc = FileLoc{"head.groom.yaml", 9, 13};
+  wave.groups_key = "effects[1].groups";
+  CHECK_THROWS_WITH(EffectStack({wave}, s.mesh, s.roots, s.guides, s.nearest),
+                    "head.groom.yaml:9:13: effects[1].groups: no face group \"nose\" in the emitter (groups: left, right)");
 }
 
 TEST_CASE("a bad vertex map is an input error naming the file and line", "[effects]") {

@@ -78,7 +78,8 @@ std::string extension_of(const std::string &path) {
 }
 
 PreviewSchedule::PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what)
-    : what_(what), pattern_(std::move(pattern)), every_(every), sequence_(!pattern_.empty() && has_frame_field(pattern_)) {
+    : what_(what), pattern_(std::move(pattern)), every_(every),
+      sequence_(!pattern_.empty() && (check_frame_syntax(pattern_, what), has_frame_field(pattern_))) {
   if (!pattern_.empty())
     check_output_pattern(pattern_, sequence_ ? range : FrameRange{range.first, range.first, 1}, what, {".png"});
 }

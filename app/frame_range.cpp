@@ -31,7 +31,7 @@ FrameField find_frame_field(const std::string &pattern) {
   FrameField found;
   auto add = [&](size_t begin, size_t length, int padding) {
     if (found.begin != std::string::npos)
-      throw InputError("output pattern \"" + pattern + "\": expected one frame field (#### or %04d), got two");
+      throw InputError("path pattern \"" + pattern + "\": expected one frame field (#### or %04d), got two");
     found = {begin, length, padding};
   };
   for (size_t i = 0; i < pattern.size();) {
@@ -50,7 +50,7 @@ FrameField find_frame_field(const std::string &pattern) {
       while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j])))
         padding = padding * 10 + (pattern[j++] - '0');
       if (j >= pattern.size() || pattern[j] != 'd' || padding > 16)
-        throw InputError("output pattern \"" + pattern + "\": expected a frame field like %04d after '%'");
+        throw InputError("path pattern \"" + pattern + "\": expected a frame field like %04d after '%'");
       add(i, j + 1 - i, padding);
       i = j + 1;
     } else {
@@ -133,7 +133,16 @@ std::optional<int> frame_in_file_name(const std::string &pattern, const std::str
   return frame;
 }
 
+void check_frame_syntax(const std::string &pattern, const std::string &what) {
+  try {
+    find_frame_field(pattern);
+  } catch (const InputError &error) {
+    throw InputError(what + ": " + error.what());
+  }
+}
+
 void check_frame_pattern(const std::string &pattern, const FrameRange &range, const std::string &what) {
+  check_frame_syntax(pattern, what);
   if (pattern.find('\0') != std::string::npos) {
     // The system would end the file name at the NUL: every frame would go to one truncated name.
     std::string shown;
@@ -143,7 +152,6 @@ void check_frame_pattern(const std::string &pattern, const FrameRange &range, co
   if (range.count() > 1 && !has_frame_field(pattern))
     throw InputError(what + ": " + std::to_string(range.count()) +
                      " frames need a frame field in the path (#### or %04d), got \"" + pattern + "\"");
-  expand_frame_pattern(pattern, range.first);  // rejects malformed fields before any work
 }
 
 }  // namespace plume

@@ -52,6 +52,10 @@ std::string expand_frame_pattern(const std::string &pattern, int frame);
 /// padding fits the name but not the expansion).
 std::optional<int> frame_in_file_name(const std::string &pattern, const std::string &path);
 
+/// Throws InputError naming `what` (the option or groom key) when a frame field of `pattern` is
+/// malformed (%x, %ld, two fields).
+void check_frame_syntax(const std::string &pattern, const std::string &what);
+
 /// Throws InputError naming `what` (the option or groom key) unless `pattern` can name every frame
 /// of `range`: no NUL character (a file name would end there), a frame field when there is more
 /// than one frame, no malformed field.

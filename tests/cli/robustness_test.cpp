@@ -87,6 +87,29 @@ TEST_CASE("a run that writes or simulates more than 100000 frames is rejected be
                      out);
 }
 
+TEST_CASE("a malformed frame field names the option or the groom key it came from", "[cli]") {
+  ScratchDir scratch("pattern_fields");
+  const fs::path out = scratch.path / "out";
+  const std::string o = out.string();
+  const std::string path = write_sintel_groom(scratch, "path", "output: {path: " + o + "/h.%ld.usda}\n");
+  const std::string preview = write_sintel_groom(scratch, "preview", "output: {preview: " + o + "/p.%5$d.png}\n");
+  const std::string cache = write_sintel_groom(scratch, "cache", "dynamics: {cache: " + o + "/g.####.%04d.hair}\n");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  const std::string one = " --frames 1-2";
+  require_rejected("regrow " + quoted(path) + one, "path.groom.yaml: output.path: path pattern", scratch, out);
+  require_rejected("regrow " + quoted(preview) + one + " --out " + quoted(o + "/h.#.usda"),
+                   "preview.groom.yaml: output.preview: path pattern", scratch, out);
+  require_rejected("simulate " + quoted(cache) + one, "cache.groom.yaml: dynamics.cache: path pattern", scratch, out);
+  require_rejected("regrow " + quoted(groom) + one + " --out " + quoted(o + "/h.%s.usda"),
+                   "--out: path pattern \"" + o + "/h.%s.usda\": expected a frame field like %04d after '%'", scratch, out);
+  require_rejected("regrow " + quoted(groom) + one + " --out " + quoted(o + "/h.#.usda") + " --preview " +
+                       quoted(o + "/p.%x.png"),
+                   "--preview: path pattern", scratch, out);
+  require_rejected("simulate " + quoted(cache) + one + " --cache " + quoted(o + "/c.#.%d.hair"),
+                   "--cache: path pattern \"" + o + "/c.#.%d.hair\": expected one frame field (#### or %04d), got two",
+                   scratch, out);
+}
+
 TEST_CASE("--threads or OMP_NUM_THREADS beyond 1024 is rejected before any thread is started", "[cli]") {
   ScratchDir scratch("threads_bound");
   const std::string groom = write_sintel_groom(scratch, "g", "");

@@ -423,6 +423,25 @@ TEST_CASE("a missing groom file is an InputError naming it", "[io]") {
   CHECK(error_of(path) == path + ": cannot read the groom file: no such file");
 }
 
+TEST_CASE("a file that is not a groom is not echoed whole in the message", "[io]") {
+  // An OBJ reads as YAML as one long plain scalar (its lines folded into one); the message shows
+  // its start and its size.
+  TempGroom t;
+  std::string obj = "o head\n";
+  for (int v = 0; v < 1000; ++v) obj += "v " + std::to_string(v) + " 0 0\n";
+  const std::string path = t.write(obj, false);
+  const std::string message = error_of(path);
+  INFO(message);
+  CHECK(message.rfind(path + ":", 0) == 0);
+  CHECK(message.find("groom: expected a map of key: value, got \"o head v 0 0 0 v 1 0 0 ") != std::string::npos);
+  CHECK(message.find("...\" (") != std::string::npos);
+  CHECK(message.find(" characters)") != std::string::npos);
+  CHECK(message.size() < path.size() + 200);
+  // Control characters in a value are shown escaped.
+  const std::string tab = t.write("roots: {count: \"1\\t0\"}\n");
+  CHECK(error_of(tab).find("roots.count: expected a whole number in [1, 100000000], got \"1\\x090\"") != std::string::npos);
+}
+
 TEST_CASE("every groom fixture in tests/data/bad fails with a located message", "[io]") {
   int count = 0;
   for (const fs::directory_entry &entry : fs::directory_iterator(data_dir / "bad")) {

@@ -1,8 +1,6 @@
 // `plume info FILE`: what a strand file, an emitter mesh or a groom file holds.
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <memory>
 
@@ -24,24 +22,7 @@ std::string bounds_text(const Eigen::AlignedBox3f &box) {
   return text;
 }
 
-// An OBJ holds a mesh when it has faces; one with only `l` lines holds strands.
-bool obj_has_faces(const std::string &path) {
-  // A device (/dev/zero) has no end to scan to, and a pipe waits for a writer.
-  std::error_code error;
-  if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
-    throw InputError(FileLoc{path}, "cannot read file: not a regular file");
-  std::ifstream in(path);
-  if (!in) throw InputError(FileLoc{path}, "cannot open the file");
-  std::string line;
-  while (std::getline(in, line)) {
-    const size_t start = line.find_first_not_of(" \t");
-    if (start != std::string::npos && line.compare(start, 2, "f ") == 0) return true;
-  }
-  return false;
-}
-
-void print_mesh(const std::string &path) {
-  const Mesh mesh = io::read_obj_mesh(path);
+void print_mesh(const std::string &path, const Mesh &mesh) {
   Eigen::AlignedBox3f box;
   for (const Eigen::Vector3f &p : mesh.positions) box.extend(p);
   double area = 0.0;
@@ -56,8 +37,7 @@ void print_mesh(const std::string &path) {
   std::printf("  bounds     %s\n", bounds_text(box).c_str());
 }
 
-void print_strands(const std::string &path) {
-  const StrandSet strands = io::read_strands(path);
+void print_strands(const std::string &path, const StrandSet &strands) {
   const size_t n = strands.strand_count();
   int64_t min_points = std::numeric_limits<int64_t>::max(), max_points = 0;
   double min_length = std::numeric_limits<double>::infinity(), max_length = 0.0, sum_length = 0.0;
@@ -98,10 +78,15 @@ void add_info_command(CLI::App &app, int &r_exit_code) {
     const std::string ext = extension_of(*file);
     if (ext == ".yaml" || ext == ".yml") {
       std::printf("%s", io::describe_groom(io::read_groom_file(*file)).c_str());
-    } else if (ext == ".obj" && obj_has_faces(*file)) {
-      print_mesh(*file);
+    } else if (ext == ".obj") {
+      // An OBJ with faces is a mesh; one with only `l` lines holds strands.
+      const io::ObjContents contents = io::read_obj_file(*file);
+      if (contents.mesh)
+        print_mesh(*file, *contents.mesh);
+      else
+        print_strands(*file, contents.strands);
     } else {
-      print_strands(*file);
+      print_strands(*file, io::read_strands(*file));
     }
     r_exit_code = 0;
   });

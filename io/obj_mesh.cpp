@@ -5,6 +5,7 @@
 
 #include "groom/limits.h"
 #include "io/file_scan.h"
+#include "io/strand_formats.h"
 
 namespace plume::io {
 namespace {
@@ -39,8 +40,7 @@ int resolve_index(const LineCursor &cursor, std::string_view token, long long in
   return int(resolved);
 }
 
-Mesh parse_obj(const std::string &path) {
-  const std::string text = detail::read_file_bytes(path);
+Mesh parse_obj(const std::string &path, const std::string &text) {
   LineCursor cursor(text, path);
   Mesh mesh;
   size_t normal_count = 0;
@@ -145,17 +145,48 @@ std::string vertex_triple(const Eigen::Vector3i &t) {
   return std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1);
 }
 
+/// Whether some line of an OBJ text is a face (`f`), after leading blanks.
+bool obj_text_has_faces(std::string_view text) {
+  for (size_t start = 0; start < text.size();) {
+    size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view line = text.substr(start, end - start);
+    const size_t first = line.find_first_not_of(" \t");
+    if (first != std::string_view::npos && line.size() > first + 1 && line[first] == 'f' &&
+        (line[first + 1] == ' ' || line[first + 1] == '\t'))
+      return true;
+    start = end + 1;
+  }
+  return false;
+}
+
 }  // namespace
 
-Mesh read_obj_mesh(const std::string &path) {
-  Mesh mesh = parse_obj(path);
+namespace detail {
+
+Mesh read_obj_mesh_text(const std::string &path, const std::string &text) {
+  Mesh mesh = parse_obj(path, text);
   mesh.validate(path);
   mesh.compute_normals();
   return mesh;
 }
 
+}  // namespace detail
+
+Mesh read_obj_mesh(const std::string &path) { return detail::read_obj_mesh_text(path, detail::read_file_bytes(path)); }
+
+ObjContents read_obj_file(const std::string &path) {
+  const std::string text = detail::read_file_bytes(path);
+  ObjContents contents;
+  if (obj_text_has_faces(text))
+    contents.mesh = detail::read_obj_mesh_text(path, text);
+  else
+    contents.strands = detail::read_obj_strands_text(path, text);
+  return contents;
+}
+
 Mesh read_obj_pose(const std::string &path, const Mesh &rest) {
-  Mesh frame = parse_obj(path);
+  Mesh frame = parse_obj(path, detail::read_file_bytes(path));
   if (frame.vertex_count() != rest.vertex_count())
     throw InputError(FileLoc{path}, "vertex count: expected " + std::to_string(rest.vertex_count()) +
                                         " as in the rest mesh, got " + std::to_string(frame.vertex_count()));

@@ -1,9 +1,11 @@
 // Reads the emitter mesh from Wavefront OBJ, and the frames of an OBJ sequence that deform it.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "groom/mesh.h"
+#include "groom/strand_set.h"
 
 namespace plume::io {
 
@@ -17,9 +19,24 @@ namespace plume::io {
 /// coordinates beyond max_coordinate (groom/limits.h).
 Mesh read_obj_mesh(const std::string &path);
 
+/// What an OBJ file holds: a mesh when it has faces (`f` lines), else strands (`l` lines).
+struct ObjContents {
+  std::optional<Mesh> mesh;  // as read_obj_mesh() gives it
+  StrandSet strands;         // as read_strands() gives an .obj, when there is no mesh
+};
+
+/// Reads an OBJ once and returns the mesh or the strands it holds (`plume info`). Throws
+/// InputError as read_obj_mesh() or read_strands() do, naming the file.
+ObjContents read_obj_file(const std::string &path);
+
 /// Reads one frame of an OBJ sequence of `rest`'s topology: same vertex count and same triangles
 /// (after triangulation). Returns rest's topology (triangles, UVs, groups) with the frame's
 /// positions and recomputed normals. Throws InputError naming the file and what differs.
 Mesh read_obj_pose(const std::string &path, const Mesh &rest);
+
+namespace detail {
+/// read_obj_mesh() of `text`, the contents of `path`.
+Mesh read_obj_mesh_text(const std::string &path, const std::string &text);
+}  // namespace detail
 
 }  // namespace plume::io

@@ -6,8 +6,9 @@
 
 namespace plume::io::detail {
 
-StrandSet read_obj_strands(const std::string &path) {
-  const std::string text = read_file_bytes(path);
+StrandSet read_obj_strands(const std::string &path) { return read_obj_strands_text(path, read_file_bytes(path)); }
+
+StrandSet read_obj_strands_text(const std::string &path, const std::string &text) {
   LineCursor cursor(text, path);
   std::vector<Eigen::Vector3f> vertices;
   std::vector<int64_t> chain_offsets{0};  // strands as runs of `chain`

@@ -13,6 +13,8 @@ StrandSet read_hair(const std::string &path);
 StrandSet read_ply(const std::string &path);
 StrandSet read_usda(const std::string &path);
 StrandSet read_obj_strands(const std::string &path);
+/// read_obj_strands() of `text`, the contents of `path`.
+StrandSet read_obj_strands_text(const std::string &path, const std::string &text);
 
 void write_hair(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
 void write_ply(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);

@@ -287,6 +287,17 @@ TEST_CASE("info describes an emitter mesh and a groom", "[cli]") {
   run = run_plume("info " + quoted(sintel_dir() + "/sintel.groom.yaml"), scratch);
   REQUIRE(run.exit_code == 0);
   CHECK(run.out.find("sintel_guides.hair") != std::string::npos);
+  // An OBJ of `l` lines holds strands; a face indented by a tab makes it a mesh.
+  std::ofstream(scratch / "lines.obj") << "v 0 0 0\nv 0 1 0\nv 0 2 0\nl 1 2\nl 2 3\n";
+  run = run_plume("info " + quoted(scratch / "lines.obj"), scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.find("lines.obj: strands") != std::string::npos);
+  CHECK(run.out.find("points     3") != std::string::npos);
+  std::ofstream(scratch / "face.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\n\tf 1 2 3\n";
+  run = run_plume("info " + quoted(scratch / "face.obj"), scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.find("face.obj: mesh") != std::string::npos);
+  CHECK(run.out.find("triangles  1") != std::string::npos);
 }
 
 TEST_CASE("on a terminal regrow shows frames/s and an ETA on stderr", "[cli]") {

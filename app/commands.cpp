@@ -151,6 +151,13 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
                         const RunInputs &inputs) {
   namespace fs = std::filesystem;
   fs::path checked_folder;
+  long name_max = 255;  // the longest file or folder name where the files go (pathconf)
+  auto check_name = [&](const fs::path &path, const fs::path &name) {
+    if (long(name.native().size()) > name_max)
+      throw InputError(what + ": cannot write " + path.string() + ": the name \"" + name.string().substr(0, 40) +
+                       "...\" has " + std::to_string(name.native().size()) + " bytes, more than the " +
+                       std::to_string(name_max) + " the file system allows");
+  };
   for (int64_t i = 0; i < count; ++i) {
     const int frame = frame_at(i);
     const fs::path path = expand_frame_pattern(pattern, frame);
@@ -161,7 +168,10 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
     if (!input.empty())
       throw InputError(what + ": " + path.string() + " is " + input + ", which this run reads: choose another output");
     const fs::path folder = path.parent_path();
-    if (i > 0 && folder == checked_folder) continue;
+    if (i > 0 && folder == checked_folder) {
+      check_name(path, path.filename());
+      continue;
+    }
     // The nearest existing ancestor must be a directory one may write in: the writer creates the rest.
     fs::path existing = folder;
     while (!existing.empty() && !fs::exists(existing, error)) {
@@ -174,6 +184,10 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
       throw InputError(what + ": cannot write " + path.string() + ": " + existing.string() + " is not a directory");
     if (::access(existing.c_str(), W_OK | X_OK) != 0)
       throw InputError(what + ": cannot write " + path.string() + ": no permission to write in " + existing.string());
+    const long limit = ::pathconf(existing.c_str(), _PC_NAME_MAX);
+    name_max = limit > 0 ? limit : 255;
+    // The folders the writer will make, and the file's own name.
+    for (const fs::path &name : path.lexically_relative(existing)) check_name(path, name);
     checked_folder = folder;
   }
 }

@@ -299,6 +299,13 @@ TEST_CASE("every output location of a run is checked before the first file is wr
   // The one picture of plume preview.
   require_rejected("preview " + quoted(groom) + " --size 64 --out " + quoted(scratch / "notadir/p.png"),
                    "notadir is not a directory", scratch, out);
+  // A file or folder name longer than the file system allows (255 bytes): the first write would fail.
+  const std::string long_name(300, 'n');
+  require_rejected("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --out " +
+                       quoted(out.string() + "/" + long_name + ".####.usda"),
+                   "has 310 bytes, more than the", scratch, out);
+  require_rejected("simulate " + quoted(dyn) + " --frames 1-2 --cache " + quoted(out.string() + "/" + long_name + "/c.#.hair"),
+                   "--cache: cannot write", scratch, out);
   // Folders that do not exist yet are made.
   require_written("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --out " + quoted(scratch / "new/deep/h.####.hair"),
                   scratch.path / "new/deep/h.0002.hair", scratch);

@@ -94,12 +94,9 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
     std::vector<bool> wanted(rest_mesh.group_names.size(), false);
     for (const std::string &name : settings.groups) {
       const int g = rest_mesh.group_index(name);
-      if (g < 0) {
-        std::string known;
-        for (const std::string &n : rest_mesh.group_names) known += (known.empty() ? "" : ", ") + n;
+      if (g < 0)
         throw InputError(settings.loc, "roots.groups: no face group \"" + name + "\" in " + groom.emitter_path +
-                                           " (groups: " + known + ")");
-      }
+                                           " (groups: " + rest_mesh.group_list() + ")");
       wanted[size_t(g)] = true;
     }
     mask.resize(rest_mesh.triangle_count());
@@ -272,11 +269,12 @@ void Pipeline::check_frame_inputs(const FrameRange &range) const {
   if (groom_.dynamics.enabled && !cached) {
     // Simulation is sequential: the last frame is reached from the simulation's start.
     const int64_t start = std::min(options_.simulation_start, range.first);
-    if (int64_t(range.last) - start + 1 > kMaxFramesPerRun)
+    const int64_t simulated = int64_t(range.last) - start + 1;
+    if (simulated > kMaxFramesPerRun)
       throw InputError(groom_.dynamics.loc.file.empty() ? FileLoc{groom_.source} : groom_.dynamics.loc,
                        "dynamics: frame " + std::to_string(range.last) + " is simulated from rest at frame " +
                            std::to_string(start) + " (the first of output.frames, or of the frames asked for when "
-                           "earlier), " + std::to_string(int64_t(range.last) - start + 1) +
+                           "earlier), " + std::to_string(simulated) +
                            " frames, expected at most " + std::to_string(kMaxFramesPerRun) +
                            " in one run besides dynamics.preroll (start output.frames nearer)");
   }

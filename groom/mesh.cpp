@@ -38,6 +38,12 @@ int Mesh::group_index(const std::string &name) const {
   return -1;
 }
 
+std::string Mesh::group_list() const {
+  std::string list;
+  for (const std::string &name : group_names) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
 void Mesh::validate(const std::string &source) const {
   if (triangles.empty()) throw InputError(FileLoc{source}, "mesh: expected at least one triangle, got none");
   for (size_t v = 0; v < positions.size(); ++v) {

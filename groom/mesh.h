@@ -34,6 +34,8 @@ struct Mesh {
   Eigen::Vector3f face_normal(size_t triangle) const;  // unit; zero for a degenerate face
   /// Index of a group by name, or -1.
   int group_index(const std::string &name) const;
+  /// The group names joined by ", ", for a message about an unknown group.
+  std::string group_list() const;
   /// Throws InputError naming `source` when an index is out of range, a value is not finite or
   /// beyond max_coordinate (groom/limits.h), or every triangle is degenerate. Degenerate triangles alone are allowed (they get no roots).
   void validate(const std::string &source) const;

@@ -310,12 +310,10 @@ EffectStack::EffectStack(const std::vector<EffectDesc> &effects, const Mesh &res
       std::vector<bool> in_group(rest_mesh.group_names.size(), false);
       for (const std::string &name : desc.groups) {
         const int g = rest_mesh.group_index(name);
-        if (g < 0) {
-          std::string known;
-          for (const std::string &n : rest_mesh.group_names) known += (known.empty() ? "" : ", ") + n;
+        if (g < 0)
           throw InputError(desc.groups_loc.file.empty() ? desc.loc : desc.groups_loc,
-                           desc.groups_key + ": no face group \"" + name + "\" in the emitter (groups: " + known + ")");
-        }
+                           desc.groups_key + ": no face group \"" + name + "\" in the emitter (groups: " +
+                               rest_mesh.group_list() + ")");
         in_group[g] = true;
       }
       for (size_t i = 0; i < n; ++i)

@@ -122,13 +122,10 @@ void PartingField::Impl::build_zones(const MeshTopology &topology, const MeshQue
     } else {
       for (const std::string &name : settings.zone_groups) {
         const int g = mesh.group_index(name);
-        if (g < 0) {
-          std::string known;
-          for (const std::string &n : mesh.group_names) known += (known.empty() ? "" : ", ") + n;
+        if (g < 0)
           throw InputError(settings.zone_groups_loc.file.empty() ? settings.loc : settings.zone_groups_loc,
-                           "partings.zones.groups: the mesh has no face group '" + name +
-                                             "' (groups: " + known + ")");
-        }
+                           "partings.zones.groups: the mesh has no face group '" + name + "' (groups: " +
+                               mesh.group_list() + ")");
         zone_of_group[size_t(g)] = int(base_names.size());
         base_names.push_back("face group '" + name + "'");
       }

@@ -35,12 +35,14 @@ std::string extension_of(const std::string &path) {
   return ext;
 }
 
-std::string quoted(std::string_view token) {
-  constexpr size_t kMaxShown = 40;
+std::string quoted(std::string_view token, size_t max_shown, bool keep_utf8) {
+  size_t end = std::min(token.size(), max_shown);
+  if (keep_utf8)  // back to the start of a UTF-8 character
+    while (end < token.size() && end > 0 && ((unsigned char)token[end] & 0xc0) == 0x80) --end;
   std::string s = "\"";
-  for (size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
+  for (size_t i = 0; i < end; ++i) {
     const unsigned char c = (unsigned char)token[i];
-    if (c >= 32 && c < 127) {
+    if ((c >= 32 && c < 127) || (keep_utf8 && c >= 128)) {
       s += char(c);
     } else {
       char hex[8];
@@ -48,7 +50,7 @@ std::string quoted(std::string_view token) {
       s += hex;
     }
   }
-  if (token.size() > kMaxShown) s += "...";
+  if (end < token.size()) s += "...";
   return s + "\"";
 }
 

@@ -24,8 +24,10 @@ std::string read_file_bytes(const std::string &path);
 /// Lower-case extension with its dot (".usda"), or "" when the name has none.
 std::string extension_of(const std::string &path);
 
-/// Quotes a token for a message, cutting it short and escaping bytes that are not printable.
-std::string quoted(std::string_view token);
+/// Quotes a token for a message: escapes as \xNN the bytes that are not printable ASCII (with
+/// `keep_utf8`, only control characters: UTF-8 text stays readable), and cuts it after `max_shown`
+/// bytes (before a whole UTF-8 character) with "..." inside the quotes.
+std::string quoted(std::string_view token, size_t max_shown = 40, bool keep_utf8 = false);
 
 enum class NumberStatus { Ok, NotANumber, NotFinite };
 /// Parses a whole token as a float (a leading '+' is allowed); NotFinite for nan, inf or overflow.

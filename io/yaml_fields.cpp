@@ -1,6 +1,5 @@
 #include "io/yaml_fields.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,24 +11,12 @@ namespace plume::io {
 
 namespace {
 /// A scalar as a message shows it: quoted, control characters escaped (\x0a), and cut after 80
-/// characters, so that a file that is not YAML at all (a mesh given as a groom) is not echoed whole.
+/// characters with its size, so that a file that is not YAML at all (a mesh given as a groom) is not
+/// echoed whole.
 std::string shown_scalar(const std::string &text) {
   constexpr size_t kMaxShown = 80;
-  size_t end = std::min(text.size(), kMaxShown);
-  while (end < text.size() && end > 0 && ((unsigned char)text[end] & 0xc0) == 0x80) --end;  // whole UTF-8 characters
-  std::string shown = "\"";
-  for (size_t i = 0; i < end; ++i) {
-    const unsigned char c = (unsigned char)text[i];
-    if (c < 32 || c == 127) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", c);
-      shown += hex;
-    } else {
-      shown += char(c);
-    }
-  }
-  if (end < text.size()) return shown + "...\" (" + std::to_string(text.size()) + " characters)";
-  return shown + "\"";
+  const std::string shown = detail::quoted(text, kMaxShown, true);
+  return text.size() > kMaxShown ? shown + " (" + std::to_string(text.size()) + " characters)" : shown;
 }
 
 std::string describe(const YAML::Node &node) {

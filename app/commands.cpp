@@ -59,9 +59,10 @@ void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size
 }
 
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) {
+  const std::string &text = !option.empty() ? option : groom.output.frames;
+  if (text.empty()) return FrameRange{};
   const std::string what = !option.empty() ? "--frames" : groom.source + ": output.frames";
-  if (option.empty() && groom.output.frames.empty()) return FrameRange{};
-  const FrameRange range = parse_frame_range(!option.empty() ? option : groom.output.frames, what);
+  const FrameRange range = parse_frame_range(text, what);
   check_frames_per_run(range, what);
   return range;
 }
@@ -78,10 +79,11 @@ std::string extension_of(const std::string &path) {
 }
 
 PreviewSchedule::PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what)
-    : what_(what), pattern_(std::move(pattern)), every_(every),
-      sequence_(!pattern_.empty() && (check_frame_syntax(pattern_, what), has_frame_field(pattern_))) {
-  if (!pattern_.empty())
-    check_output_pattern(pattern_, sequence_ ? range : FrameRange{range.first, range.first, 1}, what, {".png"});
+    : what_(what), pattern_(std::move(pattern)), every_(every) {
+  if (pattern_.empty()) return;
+  check_frame_syntax(pattern_, what);  // before has_frame_field(), whose message names no option or key
+  sequence_ = has_frame_field(pattern_);
+  check_output_pattern(pattern_, sequence_ ? range : FrameRange{range.first, range.first, 1}, what, {".png"});
 }
 
 std::string PreviewSchedule::path_at(int64_t i, int frame) const {

@@ -94,7 +94,7 @@ class PreviewSchedule {
   std::string what_;
   std::string pattern_;
   int every_;
-  bool sequence_;  // the pattern has a frame field
+  bool sequence_ = false;  // the pattern has a frame field
 };
 /// The preview size: `option` when > 0, else the groom's output.preview_size (both checked to lie in
 /// [16, max_preview_size] where they are read).

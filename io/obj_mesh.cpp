@@ -160,10 +160,7 @@ bool obj_text_has_faces(std::string_view text) {
   return false;
 }
 
-}  // namespace
-
-namespace detail {
-
+/// read_obj_mesh() of `text`, the contents of `path`.
 Mesh read_obj_mesh_text(const std::string &path, const std::string &text) {
   Mesh mesh = parse_obj(path, text);
   mesh.validate(path);
@@ -171,15 +168,15 @@ Mesh read_obj_mesh_text(const std::string &path, const std::string &text) {
   return mesh;
 }
 
-}  // namespace detail
+}  // namespace
 
-Mesh read_obj_mesh(const std::string &path) { return detail::read_obj_mesh_text(path, detail::read_file_bytes(path)); }
+Mesh read_obj_mesh(const std::string &path) { return read_obj_mesh_text(path, detail::read_file_bytes(path)); }
 
 ObjContents read_obj_file(const std::string &path) {
   const std::string text = detail::read_file_bytes(path);
   ObjContents contents;
   if (obj_text_has_faces(text))
-    contents.mesh = detail::read_obj_mesh_text(path, text);
+    contents.mesh = read_obj_mesh_text(path, text);
   else
     contents.strands = detail::read_obj_strands_text(path, text);
   return contents;

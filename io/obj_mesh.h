@@ -34,9 +34,4 @@ ObjContents read_obj_file(const std::string &path);
 /// positions and recomputed normals. Throws InputError naming the file and what differs.
 Mesh read_obj_pose(const std::string &path, const Mesh &rest);
 
-namespace detail {
-/// read_obj_mesh() of `text`, the contents of `path`.
-Mesh read_obj_mesh_text(const std::string &path, const std::string &text);
-}  // namespace detail
-
 }  // namespace plume::io

@@ -151,21 +151,22 @@ TEST_CASE("--strands beyond 100,000,000 roots is rejected, as a groom's roots.co
                          " --strands " + strands,
                      "--strands", scratch, out);
   }
+  // The groom `name`, the one above with each (from, to) replaced.
+  auto variant = [&](const std::string &name, const std::vector<std::pair<std::string, std::string>> &edits) {
+    std::string text = read_text(groom);
+    for (const auto &[from, to] : edits) text.replace(text.find(from), from.size(), to);
+    const std::string path = scratch / (name + ".groom.yaml");
+    std::ofstream(path) << text;
+    return path;
+  };
   // The same bound on the count a groom's roots.density gives over the emitter's area.
-  std::string text = read_text(groom);
-  text.replace(text.find("count: 400"), 10, "density: 100000000");
-  const std::string dense = scratch / "dense.groom.yaml";
-  std::ofstream(dense) << text;
+  const std::string dense = variant("dense", {{"count: 400", "density: 100000000"}});
   require_rejected("regrow " + quoted(dense) + " --frames 1 --out " + quoted(out.string() + "/h.usda"), "roots.density",
                    scratch, out);
   // Counts within the bound that no machine's memory holds (1e8 strands of 4,096 points: over 10 TB)
   // are refused before roots are scattered, naming the count's source, instead of an allocation
   // failure or swapping after minutes of work.
-  text = read_text(groom);
-  text.replace(text.find("points: 8"), 9, "points: 4096");
-  text.replace(text.find("count: 400"), 10, "count: 100000000");
-  const std::string huge = scratch / "huge.groom.yaml";
-  std::ofstream(huge) << text;
+  const std::string huge = variant("huge", {{"points: 8", "points: 4096"}, {"count: 400", "count: 100000000"}});
   const std::string huge_out = " --frames 1 --out " + quoted(out.string() + "/h.usda");
   require_rejected("regrow " + quoted(huge) + huge_out, "huge.groom.yaml:10:8: roots.count: 100000000 strands of 4096 points need about",
                    scratch, out);
@@ -174,10 +175,7 @@ TEST_CASE("--strands beyond 100,000,000 roots is rejected, as a groom's roots.co
   require_rejected("preview " + quoted(huge) + " --size 64 --out " + quoted(out.string() + "/p.png"),
                    "GB of memory this run may use", scratch, out);
   // And a density too small to give a single root over that area.
-  text = read_text(groom);
-  text.replace(text.find("count: 400"), 10, "density: 1e-9");
-  const std::string sparse = scratch / "sparse.groom.yaml";
-  std::ofstream(sparse) << text;
+  const std::string sparse = variant("sparse", {{"count: 400", "density: 1e-9"}});
   require_rejected("regrow " + quoted(sparse) + " --frames 1 --out " + quoted(out.string() + "/h.usda"),
                    "roots.density: density x area gives no root", scratch, out);
 }

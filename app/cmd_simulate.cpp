@@ -26,10 +26,8 @@ struct SimulateArgs {
 void run_simulate(const SimulateArgs &args) {
   const GroomDesc groom = io::read_groom_file(args.groom);
   if (!groom.dynamics.enabled)
-    // A groom without a dynamics section has no location for it: name the file.
-    throw InputError(groom.dynamics.loc.file.empty() ? FileLoc{groom.source} : groom.dynamics.loc,
-                     "dynamics.enabled: expected true for plume simulate (the groom has no "
-                                         "dynamics: its guides only follow the skin)");
+    throw InputError(groom.dynamics_loc(), "dynamics.enabled: expected true for plume simulate (the groom has no "
+                                           "dynamics: its guides only follow the skin)");
   const FrameRange range = frames_to_produce(args.frames, groom);
   const std::string cache = args.cache.empty() ? groom.dynamics.cache_pattern : args.cache;
   const std::string cache_what = args.cache.empty() ? groom.source + ": dynamics.cache" : "--cache";

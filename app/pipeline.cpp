@@ -271,7 +271,7 @@ void Pipeline::check_frame_inputs(const FrameRange &range) const {
     const int64_t start = std::min(options_.simulation_start, range.first);
     const int64_t simulated = int64_t(range.last) - start + 1;
     if (simulated > kMaxFramesPerRun)
-      throw InputError(groom_.dynamics.loc.file.empty() ? FileLoc{groom_.source} : groom_.dynamics.loc,
+      throw InputError(groom_.dynamics_loc(),
                        "dynamics: frame " + std::to_string(range.last) + " is simulated from rest at frame " +
                            std::to_string(start) + " (the first of output.frames, or of the frames asked for when "
                            "earlier), " + std::to_string(simulated) +

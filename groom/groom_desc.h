@@ -93,6 +93,9 @@ struct GroomDesc {
   std::vector<EffectDesc> effects;
   DynamicsSettings dynamics;
   OutputSettings output;
+
+  /// Where the dynamics section is written, or the groom file when it has none (for messages).
+  FileLoc dynamics_loc() const { return dynamics.loc.file.empty() ? FileLoc{source} : dynamics.loc; }
 };
 
 }  // namespace plume

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <mutex>
 #include <numeric>
@@ -76,13 +77,6 @@ void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float>
 Eigen::Vector3f unit(const Eigen::Vector3f &v) {
   const float length_sq = v.squaredNorm();
   return length_sq > 0.0f ? Eigen::Vector3f(v * (1.0f / std::sqrt(length_sq))) : v;
-}
-
-/// Unit tangent at point j of a polyline (central difference inside, one-sided at the ends).
-Eigen::Vector3f tangent_at(std::span<const Eigen::Vector3f> pts, size_t j) {
-  const size_t a = j == 0 ? 0 : j - 1;
-  const size_t b = j + 1 == pts.size() ? j : j + 1;
-  return unit(pts[b] - pts[a]);
 }
 
 /// Sine and cosine of one angle, with interp/lanes.h's functions: no C library call, so the same
@@ -229,8 +223,53 @@ struct Scratch {
   std::vector<Eigen::Vector3f> points;
   std::vector<float> cum;
   std::vector<Eigen::Vector3f> guide_offsets;
-  std::vector<float> sines, cosines;
+  /// kLaneArrays per-point arrays of `lane_count` floats each, for effects that work four points at a
+  /// time (lane(k) is array k).
+  static constexpr size_t kLaneArrays = 16;
+  std::vector<float> lanes;
+  size_t lane_count = 0;
+
+  void resize_lanes(size_t count) {
+    lane_count = count;
+    if (lanes.size() < kLaneArrays * count) lanes.resize(kLaneArrays * count);
+  }
+  float *lane(size_t k) { return lanes.data() + k * lane_count; }
 };
+
+/// A strand's points copied to scratch.points with one copy of the root before them and copies of
+/// the tip after them (at least 5), so that four-point batches read the neighbours p_(j-1) and
+/// p_(j+1) clamped at the ends without a test: point j is at index j + 1.
+const Eigen::Vector3f *padded_copy(std::span<const Eigen::Vector3f> pts, Scratch &scratch) {
+  const size_t n = pts.size();
+  scratch.points.resize(((n + 3) & ~size_t(3)) + 6);
+  scratch.points[0] = pts[0];
+  std::copy(pts.begin(), pts.end(), scratch.points.begin() + 1);
+  std::fill(scratch.points.begin() + ptrdiff_t(n + 1), scratch.points.end(), pts[n - 1]);
+  return scratch.points.data();
+}
+
+/// Four consecutive points as lanes: r_axes[a][l] is coordinate a of points[l].
+void load_lanes(const Eigen::Vector3f *points, Float4 r_axes[3]) {
+  Float4 a, b, c;  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+  const float *f = points->data();
+  std::memcpy(&a, f, sizeof a);
+  std::memcpy(&b, f + 4, sizeof b);
+  std::memcpy(&c, f + 8, sizeof c);
+  r_axes[0] = __builtin_shuffle(__builtin_shuffle(a, b, Int4{0, 3, 6, 0}), c, Int4{0, 1, 2, 5});
+  r_axes[1] = __builtin_shuffle(__builtin_shuffle(a, b, Int4{1, 4, 7, 0}), c, Int4{0, 1, 2, 6});
+  r_axes[2] = __builtin_shuffle(__builtin_shuffle(a, b, Int4{2, 5, 0, 0}), c, Int4{0, 1, 4, 7});
+}
+
+/// Four floats from memory (any alignment) and back.
+Float4 load_lane(const float *f) {
+  Float4 v;
+  std::memcpy(&v, f, sizeof v);
+  return v;
+}
+void store_lane(float *f, Float4 v) { std::memcpy(f, &v, sizeof v); }
+
+/// Dot products lane by lane, added x + (y + z) as Eigen's dot() of a Vector3f adds them.
+Float4 dot_lanes(const Float4 u[3], const Float4 v[3]) { return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]); }
 
 /// The points of a guide at the parameters of a strand of `count` points (j / (count - 1) of the
 /// guide's length, whose cumulative lengths are `cum`), as offsets from the guide's first point.
@@ -246,13 +285,21 @@ void guide_offsets_at(std::span<const Eigen::Vector3f> guide, std::span<const fl
 struct RampSamples {
   const Ramp *ramp = nullptr;
   int64_t count = 0;
-  std::vector<float> values;  // ramp at strand_param(j, count), j < count
+  /// The ramp at strand_param(j, count), j < count, then three zeros (a batch of four read past the tip).
+  std::vector<float> values;
 
-  RampSamples(const Ramp &r, int64_t point_count) : ramp(&r), count(point_count), values(size_t(point_count)) {
+  RampSamples(const Ramp &r, int64_t point_count) : ramp(&r), count(point_count), values(size_t(point_count + 3)) {
     for (int64_t j = 0; j < count; ++j) values[size_t(j)] = r.at(strand_param(j, count));
   }
   /// The ramp at point j of a strand of n points.
   float at(int64_t j, int64_t n) const { return n == count ? values[size_t(j)] : ramp->at(strand_param(j, n)); }
+  /// The ramp at points j .. j + 3 (j < n) of a strand of n points; lanes past the tip are unspecified.
+  Float4 at4(int64_t j, int64_t n) const {
+    if (n == count) return load_lane(values.data() + j);
+    Float4 r;
+    for (int64_t l = 0; l < 4; ++l) r[l] = at(std::min(j + l, n - 1), n);
+    return r;
+  }
 };
 
 }  // namespace
@@ -513,7 +560,6 @@ void apply_noise(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
   const EffectDesc &d = e.desc;
   const float amplitude = d.amplitude * e.strength[i];
   const int64_t n = int64_t(pts.size());
-  scratch.points.assign(pts.begin(), pts.end());
   Eigen::Vector3f offset = Eigen::Vector3f::Zero();
   if (d.type == EffectType::frizz) {
     const uint64_t h = hash_combine(hash_combine(d.seed, kSaltOffset), id);
@@ -524,29 +570,42 @@ void apply_noise(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
   const Eigen::Matrix3f rest_to_posed = posed_frame.basis * rest_frame.basis.transpose();
   const Eigen::Matrix3f to_noise = d.frequency * rest_to_posed.transpose();
   const Eigen::Vector3f noise_origin = d.frequency * rest_frame.origin + offset - to_noise * posed_frame.origin;
-  // The noise is sampled four points at a time (SIMD lanes); a short last batch repeats its last point.
+  Float4 to_noise4[3][3], rest_to_posed4[3][3], origin4[3];
+  for (int r = 0; r < 3; ++r) {
+    origin4[r] = Float4{} + noise_origin[r];
+    for (int c = 0; c < 3; ++c) {
+      to_noise4[r][c] = Float4{} + to_noise(r, c);
+      rest_to_posed4[r][c] = Float4{} + rest_to_posed(r, c);
+    }
+  }
+  // A matrix times a vector, lane by lane, each row added as Eigen adds a Vector3f product's.
+  auto times = [](const Float4 m[3][3], const Float4 v[3], Float4 r_product[3]) {
+    for (int r = 0; r < 3; ++r) r_product[r] = m[r][0] * v[0] + (m[r][1] * v[1] + m[r][2] * v[2]);
+  };
+  // Four points at a time (SIMD lanes); lanes past the tip repeat the tip and are not written.
+  const Eigen::Vector3f *q = padded_copy(pts, scratch);
   for (int64_t batch = 1; batch < n; batch += 4) {
-    float x[4], y[4], z[4], channels[3][4];
-    for (int64_t l = 0; l < 4; ++l) {
-      const Eigen::Vector3f at = to_noise * scratch.points[std::min(batch + l, n - 1)] + noise_origin;
-      x[l] = at.x();
-      y[l] = at.y();
-      z[l] = at.z();
-    }
-    e.noise.vector_at4(x, y, z, channels);
-    for (int64_t l = 0; l < 4 && batch + l < n; ++l) {
-      const int64_t j = batch + l;
-      const float a = amplitude * ramp.at(j, n);
-      if (a == 0.0f) continue;
-      const Eigen::Vector3f noise(channels[0][l], channels[1][l], channels[2][l]);
-      Eigen::Vector3f disp = rest_to_posed * (a * noise);
-      // Perpendicular to the strand: the part along the chord through the neighbours removed (one
-      // division; no square root).
-      const Eigen::Vector3f chord = scratch.points[size_t(std::min(j + 1, n - 1))] - scratch.points[size_t(j - 1)];
-      const float chord_sq = chord.squaredNorm();
-      if (chord_sq > 0.0f) disp -= chord * (chord.dot(disp) / chord_sq);
-      pts[j] = scratch.points[j] + disp;
-    }
+    Float4 prev[3], cur[3], next[3];
+    load_lanes(q + batch, prev);
+    load_lanes(q + batch + 1, cur);
+    load_lanes(q + batch + 2, next);
+    Float4 at[3], noise[3];
+    times(to_noise4, cur, at);
+    for (int r = 0; r < 3; ++r) at[r] += origin4[r];
+    e.noise.vector_at4(at, noise);
+    const Float4 a = amplitude * ramp.at4(batch, n);
+    for (int c = 0; c < 3; ++c) noise[c] = a * noise[c];
+    Float4 disp[3], chord[3];
+    times(rest_to_posed4, noise, disp);
+    // Perpendicular to the strand: the part along the chord through the neighbours removed (one
+    // division; no square root).
+    for (int r = 0; r < 3; ++r) chord[r] = next[r] - prev[r];
+    const Float4 chord_sq = dot_lanes(chord, chord);
+    const Float4 along = dot_lanes(chord, disp) / chord_sq;
+    const Int4 has_chord = chord_sq > 0.0f;
+    for (int r = 0; r < 3; ++r) cur[r] += has_chord ? disp[r] - chord[r] * along : disp[r];
+    for (int64_t l = 0; l < 4 && batch + l < n; ++l)
+      if (a[l] != 0.0f) pts[size_t(batch + l)] = Eigen::Vector3f(cur[0][l], cur[1][l], cur[2][l]);
   }
 }
 
@@ -559,17 +618,45 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t 
   const EffectDesc &d = e.desc;
   const float radius = d.curl_radius * e.strength[i];
   const int64_t n = int64_t(pts.size());
-  scratch.points.assign(pts.begin(), pts.end());
-  cumulative_lengths(scratch.points, scratch.cum);
-  const std::span<const Eigen::Vector3f> p = scratch.points;
+  const Eigen::Vector3f *q = padded_copy(pts, scratch);
+  const std::span<const Eigen::Vector3f> p(q + 1, size_t(n));
+  // Per point, four at a time: the unit tangent (central difference inside, one-sided at the ends),
+  // and the segment v1 = p_j - p_(j-1) with its squared length c1 and length (for the arc lengths).
+  // The batches run one past the strand so that the next loop reads every tangent it needs.
+  const size_t lanes = size_t(n + 3) & ~size_t(3);
+  scratch.resize_lanes(lanes + 4);
+  float *tx = scratch.lane(0), *ty = scratch.lane(1), *tz = scratch.lane(2), *c1s = scratch.lane(3);
+  float *segment_lengths = scratch.lane(4);
+  for (size_t j = 0; j < lanes + 4; j += 4) {
+    Float4 prev[3], cur[3], next[3];
+    load_lanes(q + j, prev);
+    load_lanes(q + j + 1, cur);
+    load_lanes(q + j + 2, next);
+    Float4 chord[3], v1[3];
+    for (int a = 0; a < 3; ++a) {
+      chord[a] = next[a] - prev[a];
+      v1[a] = cur[a] - prev[a];
+    }
+    const Float4 chord_sq = dot_lanes(chord, chord), c1 = dot_lanes(v1, v1);
+    const Float4 inverse = 1.0f / sqrt4(chord_sq);
+    const Int4 nonzero = chord_sq > 0.0f;
+    store_lane(tx + j, nonzero ? chord[0] * inverse : chord[0]);
+    store_lane(ty + j, nonzero ? chord[1] * inverse : chord[1]);
+    store_lane(tz + j, nonzero ? chord[2] * inverse : chord[2]);
+    store_lane(c1s + j, c1);
+    store_lane(segment_lengths + j, sqrt4(c1));
+  }
+  scratch.cum.resize(size_t(n));
+  scratch.cum[0] = 0.0f;
+  for (int64_t j = 1; j < n; ++j) scratch.cum[size_t(j)] = scratch.cum[size_t(j - 1)] + segment_lengths[j];
+
   const float phase0 = kTwoPi * hash_to_unit(hash_combine(hash_combine(d.seed, kSaltPhase), id));
   // The helix angles depend on arc length only: their sines and cosines four at a time up front.
   // Past 1000 turns along the strand the angle would leave the range where sin_cos4 is accurate
   // (|x| < 1e4) and, far beyond, overflow its quadrant integer: such a strand takes each point's
   // turn count modulo one (the same helix). Every other strand keeps the direct product's bits.
   const bool wrap_turns = d.turns_per_unit * scratch.cum.back() > 1000.0f;
-  scratch.sines.resize(size_t(n + 3));
-  scratch.cosines.resize(size_t(n + 3));
+  float *sines = scratch.lane(5), *cosines = scratch.lane(6);
   for (int64_t j = 0; j < n; j += 4) {
     Float4 phi, sine, cosine;
     for (int64_t l = 0; l < 4; ++l) {
@@ -582,37 +669,67 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t 
       }
     }
     sin_cos4(phi, sine, cosine);
-    for (int64_t l = 0; l < 4; ++l) {
-      scratch.sines[size_t(j + l)] = sine[l];
-      scratch.cosines[size_t(j + l)] = cosine[l];
-    }
+    store_lane(sines + j, sine);
+    store_lane(cosines + j, cosine);
   }
 
-  Eigen::Vector3f t_prev = tangent_at(p, 0);
-  Eigen::Vector3f u = posed_frame.basis.col(0) - t_prev * t_prev.dot(posed_frame.basis.col(0));
-  if (u.squaredNorm() < 1e-12f) u = t_prev.unitOrthogonal();
+  // Double reflection: reflect (u, t) in the bisecting plane of the segment v1, then in the plane
+  // that takes the reflected tangent t_l onto the new one, along v2 = t_j - t_l. Everything but u
+  // depends on the points alone: v1, 2 / c1, v2 and 2 / c2 four points at a time here, so that the
+  // chain from each point's u to the next holds only the two reflections of u.
+  float *v1x = scratch.lane(7), *v1y = scratch.lane(8), *v1z = scratch.lane(9), *k1s = scratch.lane(10);
+  float *v2x = scratch.lane(11), *v2y = scratch.lane(12), *v2z = scratch.lane(13), *c2s = scratch.lane(14);
+  float *k2s = scratch.lane(15);
+  for (size_t j = 1; j < lanes; j += 4) {
+    Float4 prev[3], cur[3], v1[3], t_prev[3], t_cur[3];
+    load_lanes(q + j, prev);
+    load_lanes(q + j + 1, cur);
+    for (int a = 0; a < 3; ++a) v1[a] = cur[a] - prev[a];
+    t_prev[0] = load_lane(tx + j - 1), t_prev[1] = load_lane(ty + j - 1), t_prev[2] = load_lane(tz + j - 1);
+    t_cur[0] = load_lane(tx + j), t_cur[1] = load_lane(ty + j), t_cur[2] = load_lane(tz + j);
+    const Float4 k1 = 2.0f / load_lane(c1s + j);
+    const Float4 along = k1 * dot_lanes(v1, t_prev);
+    Float4 v2[3];
+    for (int a = 0; a < 3; ++a) v2[a] = t_cur[a] - (t_prev[a] - along * v1[a]);
+    const Float4 c2 = dot_lanes(v2, v2);
+    store_lane(v1x + j, v1[0]);
+    store_lane(v1y + j, v1[1]);
+    store_lane(v1z + j, v1[2]);
+    store_lane(k1s + j, k1);
+    store_lane(v2x + j, v2[0]);
+    store_lane(v2y + j, v2[1]);
+    store_lane(v2z + j, v2[2]);
+    store_lane(c2s + j, c2);
+    store_lane(k2s + j, 2.0f / c2);
+  }
+
+  const Eigen::Vector3f t0(tx[0], ty[0], tz[0]);
+  Eigen::Vector3f u = posed_frame.basis.col(0) - t0 * t0.dot(posed_frame.basis.col(0));
+  if (u.squaredNorm() < 1e-12f) u = t0.unitOrthogonal();
   u = unit(u);
+  float ux = u.x(), uy = u.y(), uz = u.z();
   for (int64_t j = 1; j < n; ++j) {
-    const Eigen::Vector3f t_cur = tangent_at(p, size_t(j));
-    // Double reflection: reflect (u, t) in the bisecting plane of the segment, then in the plane
-    // that takes the reflected tangent onto the new one.
-    const Eigen::Vector3f v1 = p[j] - p[j - 1];
-    const float c1 = v1.squaredNorm();
-    if (c1 > 0.0f) {
+    if (c1s[j] > 0.0f) {
       // Reflections keep lengths and angles, so u stays a unit vector perpendicular to the tangent
       // (to rounding: about 1e-7 per point) without normalising it again, which would put a square
       // root and a division on the chain that links each point's u to the last one's.
-      const Eigen::Vector3f u_l = u - (2.0f / c1) * v1.dot(u) * v1;
-      const Eigen::Vector3f t_l = t_prev - (2.0f / c1) * v1.dot(t_prev) * v1;
-      const Eigen::Vector3f v2 = t_cur - t_l;
-      const float c2 = v2.squaredNorm();
-      u = c2 > 1e-12f ? Eigen::Vector3f(u_l - (2.0f / c2) * v2.dot(u_l) * v2) : u_l;
+      const float along = k1s[j] * (v1x[j] * ux + (v1y[j] * uy + v1z[j] * uz));
+      ux -= along * v1x[j];
+      uy -= along * v1y[j];
+      uz -= along * v1z[j];
+      if (c2s[j] > 1e-12f) {
+        const float across = k2s[j] * (v2x[j] * ux + (v2y[j] * uy + v2z[j] * uz));
+        ux -= across * v2x[j];
+        uy -= across * v2y[j];
+        uz -= across * v2z[j];
+      }
     }
-    t_prev = t_cur;
     const float r = radius * ramp.at(j, n);
     if (r == 0.0f) continue;
-    const Eigen::Vector3f v = t_cur.cross(u);
-    pts[j] = p[j] + r * (scratch.cosines[size_t(j)] * u + scratch.sines[size_t(j)] * v);
+    // v = t x u.
+    const float vx = ty[j] * uz - tz[j] * uy, vy = tz[j] * ux - tx[j] * uz, vz = tx[j] * uy - ty[j] * ux;
+    const float c = cosines[j], s = sines[j];
+    pts[j] = p[j] + Eigen::Vector3f(r * (c * ux + s * vx), r * (c * uy + s * vy), r * (c * uz + s * vz));
   }
 }
 

@@ -42,9 +42,11 @@ SimplexNoise3::SimplexNoise3(uint64_t seed) {
   for (int channel = 0; channel < 3; ++channel)
     for (int hash = 0; hash < 256; ++hash)
       gradient_of_[size_t(channel)][size_t(hash)] = uint8_t((channel == 0 ? hash : perm_[size_t(hash + 85 * channel)]) % 12);
-  for (size_t hash = 0; hash < 256; ++hash)
-    gradient_codes_[hash] = int32_t(gradient_of_[0][hash]) | int32_t(gradient_of_[1][hash]) << 8 |
-                            int32_t(gradient_of_[2][hash]) << 16;
+  for (size_t k = 0; k < 512; ++k) {
+    const size_t hash = perm_[k];
+    corner_codes_[k] = int32_t(gradient_of_[0][hash]) | int32_t(gradient_of_[1][hash]) << 8 |
+                       int32_t(gradient_of_[2][hash]) << 16;
+  }
 }
 
 namespace {
@@ -117,15 +119,10 @@ Eigen::Vector3f SimplexNoise3::vector_at(const Eigen::Vector3f &p) const {
           channel_sum(simplex, gradient_of_[2])};
 }
 
-void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z[4], float r_channels[3][4]) const {
+void SimplexNoise3::vector_at4(const Float4 p[3], Float4 r_channels[3]) const {
   // locate() and channel_sum() above, lane by lane: every float operation is the scalar one, in the
   // same order, so each lane gives vector_at's bits. Only the table lookups are done lane by lane.
-  Float4 px, py, pz;
-  for (int l = 0; l < 4; ++l) {
-    px[l] = x[l];
-    py[l] = y[l];
-    pz[l] = z[l];
-  }
+  const Float4 px = p[0], py = p[1], pz = p[2];
   const Float4 s = (px + py + pz) * kSkew;
   // floor_to_int: truncate, then one less where that rounded up (a true comparison is -1).
   auto floor4 = [](Float4 v) {
@@ -142,13 +139,34 @@ void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z
   const Int4 x_ge_y = x0 >= y0, y_ge_z = y0 >= z0, x_ge_z = x0 >= z0;
   const Int4 i1 = x_ge_y & x_ge_z, j1 = ~x_ge_y & y_ge_z, k1 = ~(i1 | j1);
   const Int4 z_least = y_ge_z & x_ge_z, y_least = x_ge_y & ~y_ge_z, x_least = ~(z_least | y_least);
-  const Int4 corner_x[4] = {Int4{} , i1 & 1, ~x_least & 1, Int4{} + 1};
+  const Int4 corner_x[4] = {Int4{}, i1 & 1, ~x_least & 1, Int4{} + 1};
   const Int4 corner_y[4] = {Int4{}, j1 & 1, ~y_least & 1, Int4{} + 1};
   const Int4 corner_z[4] = {Int4{}, k1 & 1, ~z_least & 1, Int4{} + 1};
   const Int4 ii = i & 255, jj = j & 255, kk = k & 255;
-  const Int4 ii_corner[4] = {ii + corner_x[0], ii + corner_x[1], ii + corner_x[2], ii + corner_x[3]};
-  const Int4 jj_corner[4] = {jj + corner_y[0], jj + corner_y[1], jj + corner_y[2], jj + corner_y[3]};
-  const Int4 kk_corner[4] = {kk + corner_z[0], kk + corner_z[1], kk + corner_z[2], kk + corner_z[3]};
+
+  // The corner hashes perm[ii + cx + perm[jj + cy + perm[kk + cz]]], with the last lookup folded
+  // into corner_codes_. The corners step by 0 or 1 along z, so the first lookup takes two values
+  // per lane, picked per corner; the lattice indices go through memory once, so the lookups read
+  // plain ints instead of lanes one by one.
+  alignas(16) int32_t z_index[4], below[4], above[4];
+  std::memcpy(z_index, &kk, sizeof z_index);
+  for (int l = 0; l < 4; ++l) {
+    below[l] = perm_[size_t(z_index[l])];
+    above[l] = perm_[size_t(z_index[l] + 1)];
+  }
+  Int4 z_below, z_above;
+  std::memcpy(&z_below, below, sizeof z_below);
+  std::memcpy(&z_above, above, sizeof z_above);
+  Int4 codes[4];
+  for (int c = 0; c < 4; ++c) {
+    const Int4 y_index = jj + corner_y[c] + (corner_z[c] != 0 ? z_above : z_below);
+    const Int4 x_index = ii + corner_x[c];
+    alignas(16) int32_t ys[4], xs[4], code[4];
+    std::memcpy(ys, &y_index, sizeof ys);
+    std::memcpy(xs, &x_index, sizeof xs);
+    for (int l = 0; l < 4; ++l) code[l] = corner_codes_[size_t(xs[l] + perm_[size_t(ys[l])])];
+    std::memcpy(&codes[c], code, sizeof code);
+  }
 
   Float4 sum[3] = {Float4{}, Float4{}, Float4{}};
   for (int c = 0; c < 4; ++c) {
@@ -159,31 +177,18 @@ void SimplexNoise3::vector_at4(const float x[4], const float y[4], const float z
     const Float4 falloff = reach < 0.0f ? Float4{} : reach;
     const Float4 f2 = falloff * falloff;
     const Float4 kernel = f2 * f2;
-    // This corner's gradient indices in each lane (a byte per channel), from its hash. The lattice
-    // indices go through memory once, so the lookups read plain ints instead of lanes one by one.
-    alignas(16) int32_t x_index[4], y_index[4], z_index[4], code[4];
-    std::memcpy(x_index, &(ii_corner[c]), sizeof x_index);
-    std::memcpy(y_index, &(jj_corner[c]), sizeof y_index);
-    std::memcpy(z_index, &(kk_corner[c]), sizeof z_index);
-    for (int l = 0; l < 4; ++l)
-      code[l] = gradient_codes_[perm_[size_t(x_index[l] + perm_[size_t(y_index[l] + perm_[size_t(z_index[l])])])]];
-    Int4 codes;
-    std::memcpy(&codes, code, sizeof codes);
     for (int channel = 0; channel < 3; ++channel) {
       // g . d for the twelve gradients (kGradients): index h < 4 is (+-1, +-1, 0), h < 8 is
       // (+-1, 0, +-1), else (0, +-1, +-1); bit 0 of h negates the first non-zero component, bit 1
       // the second. The same value as the dot product, without reading the gradient.
-      const Int4 h = (codes >> (8 * channel)) & 255;
+      const Int4 h = (codes[c] >> (8 * channel)) & 255;
       const Float4 first_term = h < 8 ? dx : dy, second_term = h < 4 ? dy : dz;
       const Float4 signed_first = (Float4)((Int4)first_term ^ ((h & 1) << 31));
       const Float4 signed_second = (Float4)((Int4)second_term ^ ((h & 2) << 30));
       sum[channel] += kernel * (signed_first + signed_second);
     }
   }
-  for (int channel = 0; channel < 3; ++channel) {
-    const Float4 value = kScale * sum[channel];
-    for (int l = 0; l < 4; ++l) r_channels[channel][l] = value[l];
-  }
+  for (int channel = 0; channel < 3; ++channel) r_channels[channel] = kScale * sum[channel];
 }
 
 }  // namespace plume::interp

@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdint>
 
+#include "interp/lanes.h"
+
 namespace plume::interp {
 
 /// Simplex noise in 3D (Perlin 2001, in Gustavson's formulation) over a lattice of unit spacing,
@@ -20,18 +22,19 @@ class SimplexNoise3 {
   float at(const Eigen::Vector3f &p) const;
   /// Three independent channels (same lattice, unrelated gradients), each in [-1, 1].
   Eigen::Vector3f vector_at(const Eigen::Vector3f &p) const;
-  /// vector_at at four points at once, in SIMD lanes: point l is (x[l], y[l], z[l]) and its channel c
-  /// goes to r_channels[c][l]. The same operations in the same order, so the same bits as vector_at.
-  void vector_at4(const float x[4], const float y[4], const float z[4], float r_channels[3][4]) const;
+  /// vector_at at four points at once, in SIMD lanes: point l is (p[0][l], p[1][l], p[2][l]) and its
+  /// channel c goes to r_channels[c][l]. The same operations in the same order, so the same bits as
+  /// vector_at.
+  void vector_at4(const Float4 p[3], Float4 r_channels[3]) const;
 
  private:
   std::array<uint8_t, 512> perm_;  // a shuffle of 0..255, stored twice to skip a wrap
   /// Per channel, the gradient index (0..11) of a corner hash: channel 0 reads hash % 12, channel c
   /// reads perm[hash + 85 c] % 12 (unrelated gradients from the same lattice walk).
   std::array<std::array<uint8_t, 256>, 3> gradient_of_;
-  /// The same per corner hash, the three channels' gradient indices in one word (byte c for
-  /// channel c): what vector_at4 gathers.
-  std::array<int32_t, 256> gradient_codes_;
+  /// Per index k < 512 of the last lattice lookup (k = i + perm[...]), the three channels' gradient
+  /// indices of the corner hash perm[k] in one word (byte c for channel c): what vector_at4 gathers.
+  std::array<int32_t, 512> corner_codes_;
 };
 
 }  // namespace plume::interp

@@ -694,16 +694,19 @@ TEST_CASE("simplex noise is smooth, bounded and seeded", "[effects]") {
   // Four points at once (SIMD lanes) give the bits of one at a time, negative coordinates included.
   int mismatches = 0;
   for (int k = 0; k < 5000; k += 4) {
-    float x[4], y[4], z[4], channels[3][4];
+    interp::Float4 at[3], channels[3];
     for (int l = 0; l < 4; ++l) {
-      x[l] = 0.731f * float(k + l) - 1500.0f;
-      y[l] = -0.113f * float((k + l) % 71) + 3.0f;
-      z[l] = 0.0371f * float((k + l) % 193) - 2.5f;
+      at[0][l] = 0.731f * float(k + l) - 1500.0f;
+      at[1][l] = -0.113f * float((k + l) % 71) + 3.0f;
+      at[2][l] = 0.0371f * float((k + l) % 193) - 2.5f;
     }
-    a.vector_at4(x, y, z, channels);
+    a.vector_at4(at, channels);
     for (int l = 0; l < 4; ++l) {
-      const Eigen::Vector3f v = a.vector_at(Eigen::Vector3f(x[l], y[l], z[l]));
-      for (int c = 0; c < 3; ++c) mismatches += std::memcmp(&channels[c][l], &v[c], sizeof(float)) != 0;
+      const Eigen::Vector3f v = a.vector_at(Eigen::Vector3f(at[0][l], at[1][l], at[2][l]));
+      for (int c = 0; c < 3; ++c) {
+        const float lane = channels[c][l];
+        mismatches += std::memcmp(&lane, &v[c], sizeof(float)) != 0;
+      }
     }
   }
   CHECK(mismatches == 0);

@@ -298,8 +298,8 @@ struct StreamlineField {
       const Float4 lambda = progress.pace;
       const Float4 inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float4{} + 1.0f;
       // Segment j's cost in each lane: its point of least cost (at r_t along it), the squared
-      // distance there, and the segment's arc.
-      auto segment_cost = [&](Int4 j, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc) {
+      // distance there, the segment's arc, and whether that point lies before the segment's end.
+      auto segment_cost = [&](Int4 j, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc, Int4 &r_inner) {
         Float4 start_arc[4], direction_length[4];
         load_quad(group.segments, j, 0, start_arc);
         load_quad(group.segments, j, 1, direction_length);
@@ -309,6 +309,7 @@ struct StreamlineField {
         const Float4 dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
         const Float4 t = (ox * dx + (oy * dy + oz * dz) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda;
         r_t = t < 0.0f ? Float4{} : (length < t ? length : t);  // std::clamp(t, 0, length)
+        r_inner = t < length;
         const Float4 ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
         r_distance_sq = ex * ex + (ey * ey + ez * ez);
         const Float4 lag = segment_arc + r_t - expected;
@@ -317,27 +318,29 @@ struct StreamlineField {
       // The cost is convex along the guide (the pace term above), so its minimum over each segment
       // falls then rises along the window: walk forward from the window's first segment while the
       // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment), or
-      // until the window ends (past both `lookahead` segments and the window's arc). Usually one or
-      // two segments are looked at instead of the whole window; the lanes walk together while any
-      // of them still moves on.
+      // until the window ends (past both `lookahead` segments and the window's arc). A segment whose
+      // least cost lies before its end holds the minimum (the cost rises past it): the walk stops
+      // there without looking at the next. Usually one segment is looked at instead of the whole
+      // window; the lanes walk together while any of them still moves on.
       const Int4 last = group.segment_count - 1;
       Int4 best = start, candidate = start;
       Float4 best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
-      Float4 best_cost = segment_cost(start, best_t, best_sq, first_arc);
-      Int4 walking = best < last;
+      Int4 inner;
+      Float4 best_cost = segment_cost(start, best_t, best_sq, first_arc, inner);
+      Int4 walking = (best < last) & ~inner;
       while (any(walking)) {
         // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
         // others; counted apart from `best` so that the next loads need not wait for the costs.
         candidate = candidate < last ? candidate + 1 : candidate;
         Float4 t, distance_sq, segment_arc;
-        const Float4 cost = segment_cost(candidate, t, distance_sq, segment_arc);
+        const Float4 cost = segment_cost(candidate, t, distance_sq, segment_arc, inner);
         const Int4 in_window = (candidate - start < lookahead) | ~(segment_arc > window_high);
         const Int4 take = walking & in_window & ~(cost > best_cost + tie_sq);
         best_cost = take ? cost : best_cost;
         best_sq = take ? distance_sq : best_sq;
         best_t = take ? t : best_t;
         best -= take;
-        walking = take & (best < last);
+        walking = take & (best < last) & ~inner;
       }
       progress.segment = best;
       const Float4 best_distance = sqrt4(best_sq);

@@ -200,6 +200,58 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
   return frame;
 }
 
+/// Per guide point (indexed like the guides' positions), a lower bound of its signed distance to
+/// the skin, within a factor of two of it. Each guide is walked from its root; a point takes the
+/// better of the 1-Lipschitz bound from the last queried point and a bound on its distance to every
+/// triangle (the grid's cell bound, or the distance to the mesh's box; the point cannot have crossed
+/// the skin since the previous one, as SkinGuard::keep_out argues), and is queried only where that
+/// falls below half of the last queried distance: a few queries per guide.
+/// -infinity (no bound) next to an open edge of the mesh, where the side of a point is not kept by
+/// moving without crossing the skin (SkinGrid::near_open_edge).
+std::vector<float> guide_clearances(const StrandSet &guides, const std::vector<SurfacePoint> &guide_roots,
+                                    const MeshQuery &query, const SkinGrid &skin_grid) {
+  std::vector<float> clearances(guides.point_count());
+  const int64_t guide_count = int64_t(guides.strand_count());
+  Eigen::Vector3f lowest = Eigen::Vector3f::Constant(INFINITY), highest = -lowest;
+  for (const Eigen::Vector3f &v : query.mesh().positions) {
+    lowest = lowest.cwiseMin(v);
+    highest = highest.cwiseMax(v);
+  }
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int64_t g = 0; g < guide_count; ++g) {
+    SurfacePoint hint = guide_roots[size_t(g)];
+    Eigen::Vector3f queried_point = Eigen::Vector3f::Zero(), previous_point = queried_point;
+    float queried = -INFINITY, previous = -INFINITY;
+    for (int64_t j = guides.offsets[size_t(g)]; j < guides.offsets[size_t(g) + 1]; ++j) {
+      const Eigen::Vector3f &p = guides.positions[size_t(j)];
+      float &clearance = clearances[size_t(j)];
+      if (skin_grid.near_open_edge(p)) {
+        clearance = queried = previous = -INFINITY;
+        continue;
+      }
+      clearance = queried - (p - queried_point).norm();
+      if (!(clearance >= 0.5f * queried)) {
+        // The grid's cell bound, or outside the grid (which the cells do not bound) the distance
+        // to the box of the mesh's vertices.
+        const float box_distance = (lowest - p).cwiseMax(p - highest).cwiseMax(0.0f).norm();
+        const float lower = std::max(skin_grid.distance_lower_bound(p), box_distance);
+        if (previous > 0.0f && lower > 0.0f && previous + lower > (p - previous_point).norm())
+          clearance = std::max(clearance, lower);
+      }
+      if (!(queried > 0.0f && clearance >= 0.5f * queried)) {
+        SurfacePoint closest;
+        clearance = float(query.signed_distance(p.cast<double>(), hint, closest));
+        hint = closest;
+        queried_point = p;
+        queried = clearance;
+      }
+      previous_point = p;
+      previous = clearance;
+    }
+  }
+  return clearances;
+}
+
 /// One influencing guide of the strand being grown, as the binding gives it.
 struct Slot {
   int32_t guide;
@@ -236,6 +288,7 @@ struct StreamlineSlots {
   };
   struct Group {
     const GuideSegment *segments[4];  // the guide's first segment
+    const float *clearances[4];       // the guide's first point's clearance (guide_clearances)
     Int4 segment_count;  // segment indices along one guide fit 32 bits (the guide's points would not fit memory)
     Float4 influence;    // scale of the 1/d law
     Float4 arc_scale;  // guide length / strand length
@@ -265,10 +318,17 @@ struct StreamlineField {
   float hit_distance_sq;
   float tie_sq;       // a later segment within this of the best wins (vertex ties go forward)
 
+  /// `r_clearance`: a lower bound of p's signed distance to the skin from the guides' own. The
+  /// signed distance is 1-Lipschitz, so at the chosen point q, t along a segment of length L whose
+  /// ends are c0 and c1 from the skin, sd(q) >= max(c0 - t, c1 - (L - t)), and sd(p) >= sd(q) - |p - q|
+  /// (the ball of that radius round q holds no skin, so p is on q's side). Free, as the search has
+  /// found q: growth's skin guard then needs no query for most points away from the root.
   Eigen::Vector3f operator()(const Eigen::Vector3f &p, float arc, StreamlineSlots &slots,
-                             const Eigen::Vector3f &fallback, float *r_nearest = nullptr) const {
+                             const Eigen::Vector3f &fallback, float *r_nearest = nullptr,
+                             float *r_clearance = nullptr) const {
     Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
     float weight_sum = 0.0f, hit_sum = 0.0f, nearest_sq = INFINITY;
+    Float4 clearance = Float4{} - INFINITY;
     const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z();
     for (int group_index = 0; group_index < slots.group_count; ++group_index) {
       const StreamlineSlots::Group &group = slots.groups[group_index];
@@ -355,6 +415,13 @@ struct StreamlineField {
       const Float4 norm = sqrt4(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
       const Float4 inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
       for (int c = 0; c < 3; ++c) tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
+      const Float4 start_clearance = {group.clearances[0][best[0]], group.clearances[1][best[1]],
+                                      group.clearances[2][best[2]], group.clearances[3][best[3]]};
+      const Float4 end_clearance = {group.clearances[0][best[0] + 1], group.clearances[1][best[1] + 1],
+                                    group.clearances[2][best[2] + 1], group.clearances[3][best[3] + 1]};
+      const Float4 from_start = start_clearance - best_t, from_end = end_clearance - (direction_length[3] - best_t);
+      const Float4 lane_clearance = (from_start < from_end ? from_end : from_start) - best_distance;
+      clearance = clearance < lane_clearance ? lane_clearance : clearance;
       const Float4 weight = group.influence / best_distance;
       const Float4 pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
       progress.pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
@@ -378,6 +445,7 @@ struct StreamlineField {
       nearest_sq = 0.0f;
     }
     if (r_nearest) *r_nearest = std::sqrt(nearest_sq);
+    if (r_clearance) *r_clearance = std::max(std::max(clearance[0], clearance[1]), std::max(clearance[2], clearance[3]));
     const float norm = blend.norm();
     return norm > 1e-6f * weight_sum && norm > 0.0f ? Eigen::Vector3f(blend * (1.0f / norm)) : fallback;
   }
@@ -411,6 +479,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   std::unique_ptr<SkinGrid> own_skin_grid;
   if (streamline && !shared_skin_grid) own_skin_grid = std::make_unique<SkinGrid>(mesh, query);
   const SkinGrid *const skin_grid = streamline ? (shared_skin_grid ? shared_skin_grid : own_skin_grid.get()) : nullptr;
+  const std::vector<float> clearances = streamline ? guide_clearances(guides, binding.guide_roots, query, *skin_grid) : std::vector<float>();
 
   r_strands.resize_uniform(roots.size(), n, options.with_widths);
   r_strands.ids = roots.ids;
@@ -514,6 +583,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
       const int l = lane % 4;
       group.segments[l] = frame.segments.data() + first;
+      group.clearances[l] = clearances.data() + guides.offsets[g];
       group.segment_count[l] = int32_t(last + 1 - first);
       group.influence[l] = slots[s].influence;
       group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
@@ -522,11 +592,22 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     }
     SkinGuard guard(query, settings.skin_margin, scale, skin_grid);
     guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
+    // The last point where the field was evaluated, and the lower bound of its signed distance to
+    // the skin that the guides give (StreamlineField).
+    Eigen::Vector3f evaluated_at = root_frame.origin;
+    float evaluated_clearance = -INFINITY;
+    auto evaluate = [&](const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest) {
+      evaluated_at = p;
+      return field(p, arc, field_slots, fallback, r_nearest, &evaluated_clearance);
+    };
     // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
-    // keeps its length, and check again with a query (see SkinGuard::keep_out).
+    // keeps its length, and check again with a query (see SkinGuard::keep_out). A point that the
+    // guides' clearance puts outside by the margin is not looked at.
     auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
       Eigen::Vector3f to = from + step * direction;
       const Eigen::Vector3f aimed = to;
+      const float guided = evaluated_clearance - (to - evaluated_at).norm();
+      if (guided >= settings.skin_margin && guided > guard.lower_bound(to)) guard.know(to, guided);
       guard.keep_out(to);
       if (to != aimed) {
         to = from + step * unit_or(to - from, direction);
@@ -576,7 +657,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         StreamlineSlots::Progress saved[StreamlineSlots::max_groups];
         std::copy(field_slots.progress, field_slots.progress + field_slots.group_count, saved);
         const Eigen::Vector3f middle_direction =
-            field(middle, (float(i) + 0.5f) * step, field_slots, start_direction, &middle_nearest);
+            evaluate(middle, (float(i) + 0.5f) * step, start_direction, &middle_nearest);
         if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= kSmoothTurning * kSmoothTurning) {
           nearest = middle_nearest;
           points[i + 1] = advance(points[i], middle_direction);
@@ -589,7 +670,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         // The full step searches the guides from where they were.
         std::copy(saved, saved + field_slots.group_count, field_slots.progress);
       }
-      Eigen::Vector3f start_direction = field(points[i], float(i) * step, field_slots, direction, &nearest);
+      Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest);
       const int substeps = nearest > 0.0f && nearest < 0.5f * step
                                ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
                                : 1;
@@ -597,9 +678,9 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       Eigen::Vector3f p = points[i], last_direction = direction;
       for (int sub = 0; sub < substeps; ++sub) {
         const float arc = float(i) * step + float(sub) * substep;
-        if (sub > 0) start_direction = field(p, arc, field_slots, last_direction);
+        if (sub > 0) start_direction = evaluate(p, arc, last_direction, nullptr);
         const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
-        last_direction = field(middle, arc + 0.5f * substep, field_slots, start_direction, &nearest);
+        last_direction = evaluate(middle, arc + 0.5f * substep, start_direction, &nearest);
         p += substep * last_direction;
       }
       points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));

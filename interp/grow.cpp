@@ -426,6 +426,21 @@ struct StreamlineField {
       const Float4 pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
       progress.pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
 
+      // The blend, guide by guide in slot order. The usual case, four guides of which none is hit
+      // and none before them was, takes the products lane-wise and only the sums one by one (the
+      // same operations, so the same bits).
+      if (4 * group_index + 3 < slots.used && hit_sum == 0.0f && !any(best_sq <= hit_distance_sq)) {
+        const Float4 x = weight * tangent[0], y = weight * tangent[1], z = weight * tangent[2];
+        const Float4 counted = group.influence > 0.0f ? best_sq : Float4{} + INFINITY;
+        nearest_sq = std::min(nearest_sq, std::min(std::min(counted[0], counted[1]), std::min(counted[2], counted[3])));
+        for (int l = 0; l < 4; ++l) {
+          blend.x() += x[l];
+          blend.y() += y[l];
+          blend.z() += z[l];
+          weight_sum += weight[l];
+        }
+        continue;
+      }
       for (int l = 0; l < 4 && 4 * group_index + l < slots.used; ++l) {
         const float influence = group.influence[l];
         if (influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq[l]);

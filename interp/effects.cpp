@@ -67,11 +67,6 @@ Eigen::Vector3f point_at_length(std::span<const Eigen::Vector3f> pts, std::span<
   return pts[k] + a * (pts[k + 1] - pts[k]);
 }
 
-void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float> &r_cum) {
-  r_cum.resize(pts.size());
-  r_cum[0] = 0.0f;
-  for (size_t j = 1; j < pts.size(); ++j) r_cum[j] = r_cum[j - 1] + (pts[j] - pts[j - 1]).norm();
-}
 
 /// v / |v| with one division instead of three (a zero vector stays zero).
 Eigen::Vector3f unit(const Eigen::Vector3f &v) {
@@ -223,17 +218,10 @@ struct Scratch {
   std::vector<Eigen::Vector3f> points;
   std::vector<float> cum;
   std::vector<Eigen::Vector3f> guide_offsets;
-  /// kLaneArrays per-point arrays of `lane_count` floats each, for effects that work four points at a
-  /// time (lane(k) is array k).
-  static constexpr size_t kLaneArrays = 16;
-  std::vector<float> lanes;
-  size_t lane_count = 0;
-
-  void resize_lanes(size_t count) {
-    lane_count = count;
-    if (lanes.size() < kLaneArrays * count) lanes.resize(kLaneArrays * count);
-  }
-  float *lane(size_t k) { return lanes.data() + k * lane_count; }
+  /// Curl's copies of a block's four strands and their points, tangents, arc lengths and squared
+  /// segment lengths as lanes (see apply_curl).
+  std::vector<Eigen::Vector3f> curl_points;
+  std::vector<Float4> curl_lanes;
 };
 
 /// A strand's points copied to scratch.points with one copy of the root before them and copies of
@@ -260,16 +248,32 @@ void load_lanes(const Eigen::Vector3f *points, Float4 r_axes[3]) {
   r_axes[2] = __builtin_shuffle(__builtin_shuffle(a, b, Int4{2, 5, 0, 0}), c, Int4{0, 1, 4, 7});
 }
 
-/// Four floats from memory (any alignment) and back.
+/// Four floats from memory (any alignment).
 Float4 load_lane(const float *f) {
   Float4 v;
   std::memcpy(&v, f, sizeof v);
   return v;
 }
-void store_lane(float *f, Float4 v) { std::memcpy(f, &v, sizeof v); }
 
 /// Dot products lane by lane, added x + (y + z) as Eigen's dot() of a Vector3f adds them.
 Float4 dot_lanes(const Float4 u[3], const Float4 v[3]) { return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]); }
+
+/// Arc length at each point of a polyline (r_cum[0] = 0), the segment lengths four at a time.
+void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float> &r_cum) {
+  const size_t n = pts.size();
+  r_cum.resize(n);
+  r_cum[0] = 0.0f;
+  size_t j = 1;
+  for (; j + 4 <= n; j += 4) {
+    Float4 from[3], to[3];
+    load_lanes(pts.data() + j - 1, from);
+    load_lanes(pts.data() + j, to);
+    for (int a = 0; a < 3; ++a) to[a] -= from[a];
+    const Float4 length = sqrt4(dot_lanes(to, to));
+    for (size_t l = 0; l < 4; ++l) r_cum[j + l] = r_cum[j + l - 1] + length[l];
+  }
+  for (; j < n; ++j) r_cum[j] = r_cum[j - 1] + (pts[j] - pts[j - 1]).norm();
+}
 
 /// The points of a guide at the parameters of a strand of `count` points (j / (count - 1) of the
 /// guide's length, whose cumulative lengths are `cum`), as offsets from the guide's first point.
@@ -613,123 +617,141 @@ void apply_noise(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
 /// double reflection (Wang et al. 2008) from U_0 = the root's surface tangent made perpendicular to the
 /// first tangent; point j moves by radius * strength * ramp(t) * (cos phi U + sin phi V) with
 /// phi = phi_0 + 2 pi * turns_per_unit * s_j (s_j arc length, phi_0 hashed from the id).
-void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i, uint64_t id,
-                const SurfaceFrame &posed_frame, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
+///
+/// The frame is carried from point to point, a chain that four points of one strand cannot share:
+/// the (up to four) strands of a block go through it together instead, one strand per SIMD lane, every
+/// lane doing the operations of one strand alone. `count` <= 4 strands starting at strand `first` of
+/// r_strands; those of zero strength are left as they are. posed_frames[s] is strand first + s's root
+/// frame (read when its strength is not zero).
+void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, int64_t first, int64_t count,
+                const std::vector<uint64_t> &ids, const SurfaceFrame *posed_frames, StrandSet &r_strands,
+                Scratch &scratch) {
   const EffectDesc &d = e.desc;
-  const float radius = d.curl_radius * e.strength[i];
-  const int64_t n = int64_t(pts.size());
-  const Eigen::Vector3f *q = padded_copy(pts, scratch);
-  const std::span<const Eigen::Vector3f> p(q + 1, size_t(n));
-  // Per point, four at a time: the unit tangent (central difference inside, one-sided at the ends),
-  // and the segment v1 = p_j - p_(j-1) with its squared length c1 and length (for the arc lengths).
-  // The batches run one past the strand so that the next loop reads every tangent it needs.
-  const size_t lanes = size_t(n + 3) & ~size_t(3);
-  scratch.resize_lanes(lanes + 4);
-  float *tx = scratch.lane(0), *ty = scratch.lane(1), *tz = scratch.lane(2), *c1s = scratch.lane(3);
-  float *segment_lengths = scratch.lane(4);
-  for (size_t j = 0; j < lanes + 4; j += 4) {
-    Float4 prev[3], cur[3], next[3];
-    load_lanes(q + j, prev);
-    load_lanes(q + j + 1, cur);
-    load_lanes(q + j + 2, next);
+  int64_t longest = 0;
+  Int4 point_count{};  // per lane; 0 for a strand left alone, so that no point of it is written
+  for (int64_t s = 0; s < count; ++s)
+    if (e.strength[size_t(first + s)] != 0.0f) {
+      point_count[s] = int32_t(r_strands.points_in(size_t(first + s)));
+      longest = std::max(longest, int64_t(point_count[s]));
+    }
+  if (longest == 0) return;
+  // Each lane's strand as padded_copy lays it out (point j at index j + 1, the root repeated before,
+  // the tip after), read at longest + 2 indices; lanes left alone read a moved strand of the block.
+  const size_t stride = size_t(longest + 8);
+  scratch.curl_points.resize(4 * stride);
+  Eigen::Vector3f *copies = scratch.curl_points.data();
+  int64_t source[4];
+  for (int64_t s = 0; s < 4; ++s) source[s] = s < count && point_count[s] > 0 ? first + s : -1;
+  for (int64_t s = 0; s < 4; ++s)
+    if (source[s] < 0) source[s] = *std::max_element(source, source + 4);
+  for (int64_t s = 0; s < 4; ++s) {
+    const std::span<const Eigen::Vector3f> pts = r_strands.points(size_t(source[s]));
+    Eigen::Vector3f *copy = copies + size_t(s) * stride;
+    copy[0] = pts[0];
+    std::copy(pts.begin(), pts.end(), copy + 1);
+    std::fill(copy + 1 + pts.size(), copy + stride, pts.back());
+  }
+  // q[k][a]: coordinate a of index k of the four copies, one per lane (a 4 x 4 transpose of each
+  // point read with the float after it).
+  const size_t index_count = size_t(longest + 2);
+  scratch.curl_lanes.resize(index_count * 8);
+  Float4(*q)[3] = reinterpret_cast<Float4(*)[3]>(scratch.curl_lanes.data());
+  Float4(*tangents)[3] = q + index_count;
+  Float4 *cum = reinterpret_cast<Float4 *>(tangents + index_count);
+  Float4 *c1s = cum + index_count;
+  for (size_t k = 0; k < index_count; ++k) {
+    Float4 rows[4];
+    for (size_t s = 0; s < 4; ++s) rows[s] = load_lane(copies[s * stride + k].data());
+    const Float4 low01 = __builtin_shuffle(rows[0], rows[1], Int4{0, 4, 1, 5});
+    const Float4 low23 = __builtin_shuffle(rows[2], rows[3], Int4{0, 4, 1, 5});
+    const Float4 high01 = __builtin_shuffle(rows[0], rows[1], Int4{2, 6, 3, 7});
+    const Float4 high23 = __builtin_shuffle(rows[2], rows[3], Int4{2, 6, 3, 7});
+    q[k][0] = __builtin_shuffle(low01, low23, Int4{0, 1, 4, 5});
+    q[k][1] = __builtin_shuffle(low01, low23, Int4{2, 3, 6, 7});
+    q[k][2] = __builtin_shuffle(high01, high23, Int4{0, 1, 4, 5});
+  }
+  // Per point j: the unit tangent (central difference inside, one-sided at the ends), the squared
+  // length c1 of the segment from point j - 1, and the arc length.
+  for (int64_t j = 0; j < longest; ++j) {
     Float4 chord[3], v1[3];
     for (int a = 0; a < 3; ++a) {
-      chord[a] = next[a] - prev[a];
-      v1[a] = cur[a] - prev[a];
+      chord[a] = q[j + 2][a] - q[j][a];
+      v1[a] = q[j + 1][a] - q[j][a];
     }
-    const Float4 chord_sq = dot_lanes(chord, chord), c1 = dot_lanes(v1, v1);
+    const Float4 chord_sq = dot_lanes(chord, chord);
     const Float4 inverse = 1.0f / sqrt4(chord_sq);
     const Int4 nonzero = chord_sq > 0.0f;
-    store_lane(tx + j, nonzero ? chord[0] * inverse : chord[0]);
-    store_lane(ty + j, nonzero ? chord[1] * inverse : chord[1]);
-    store_lane(tz + j, nonzero ? chord[2] * inverse : chord[2]);
-    store_lane(c1s + j, c1);
-    store_lane(segment_lengths + j, sqrt4(c1));
+    for (int a = 0; a < 3; ++a) tangents[j][a] = nonzero ? chord[a] * inverse : chord[a];
+    c1s[j] = dot_lanes(v1, v1);
+    cum[j] = j == 0 ? Float4{} : cum[j - 1] + sqrt4(c1s[j]);
   }
-  scratch.cum.resize(size_t(n));
-  scratch.cum[0] = 0.0f;
-  for (int64_t j = 1; j < n; ++j) scratch.cum[size_t(j)] = scratch.cum[size_t(j - 1)] + segment_lengths[j];
-
-  const float phase0 = kTwoPi * hash_to_unit(hash_combine(hash_combine(d.seed, kSaltPhase), id));
-  // The helix angles depend on arc length only: their sines and cosines four at a time up front.
-  // Past 1000 turns along the strand the angle would leave the range where sin_cos4 is accurate
+  // Past 1000 turns along the strand the helix angle would leave the range where sin_cos4 is accurate
   // (|x| < 1e4) and, far beyond, overflow its quadrant integer: such a strand takes each point's
   // turn count modulo one (the same helix). Every other strand keeps the direct product's bits.
-  const bool wrap_turns = d.turns_per_unit * scratch.cum.back() > 1000.0f;
-  float *sines = scratch.lane(5), *cosines = scratch.lane(6);
-  for (int64_t j = 0; j < n; j += 4) {
-    Float4 phi, sine, cosine;
-    for (int64_t l = 0; l < 4; ++l) {
-      const float s_j = scratch.cum[size_t(std::min(j + l, n - 1))];
-      if (wrap_turns) {
-        const float turns = d.turns_per_unit * s_j;
-        phi[l] = phase0 + kTwoPi * (turns - std::floor(turns));
-      } else {
-        phi[l] = phase0 + kTwoPi * d.turns_per_unit * s_j;
+  Float4 phase0{}, radius{}, tip_length{};
+  int wrap_turns = 0;
+  Float4 u[3] = {Float4{} + 1.0f, Float4{}, Float4{}};
+  for (int64_t s = 0; s < count; ++s) {
+    const size_t i = size_t(first + s);
+    if (point_count[s] == 0) continue;
+    phase0[s] = kTwoPi * hash_to_unit(hash_combine(hash_combine(d.seed, kSaltPhase), ids[i]));
+    radius[s] = d.curl_radius * e.strength[i];
+    tip_length[s] = cum[point_count[s] - 1][s];
+    if (d.turns_per_unit * tip_length[s] > 1000.0f) wrap_turns |= 1 << s;
+    const Eigen::Vector3f t0(tangents[0][0][s], tangents[0][1][s], tangents[0][2][s]);
+    const Eigen::Matrix3f &basis = posed_frames[s].basis;
+    Eigen::Vector3f u0 = basis.col(0) - t0 * t0.dot(basis.col(0));
+    if (u0.squaredNorm() < 1e-12f) u0 = t0.unitOrthogonal();
+    u0 = unit(u0);
+    for (int a = 0; a < 3; ++a) u[a][s] = u0[a];
+  }
+  // The ramp's table serves every lane whose strand has the tabulated point count.
+  const bool same_ramp = lane_bits((point_count == int32_t(ramp.count)) | (point_count == 0)) == 15;
+  for (int64_t j = 1; j < longest; ++j) {
+    Float4 phi = phase0 + kTwoPi * d.turns_per_unit * cum[j];
+    for (int s = 0; s < 4; ++s)
+      if (wrap_turns >> s & 1) {
+        const float turns = d.turns_per_unit * cum[j][s];
+        phi[s] = phase0[s] + kTwoPi * (turns - std::floor(turns));
       }
-    }
+    Float4 sine, cosine;
     sin_cos4(phi, sine, cosine);
-    store_lane(sines + j, sine);
-    store_lane(cosines + j, cosine);
-  }
-
-  // Double reflection: reflect (u, t) in the bisecting plane of the segment v1, then in the plane
-  // that takes the reflected tangent t_l onto the new one, along v2 = t_j - t_l. Everything but u
-  // depends on the points alone: v1, 2 / c1, v2 and 2 / c2 four points at a time here, so that the
-  // chain from each point's u to the next holds only the two reflections of u.
-  float *v1x = scratch.lane(7), *v1y = scratch.lane(8), *v1z = scratch.lane(9), *k1s = scratch.lane(10);
-  float *v2x = scratch.lane(11), *v2y = scratch.lane(12), *v2z = scratch.lane(13), *c2s = scratch.lane(14);
-  float *k2s = scratch.lane(15);
-  for (size_t j = 1; j < lanes; j += 4) {
-    Float4 prev[3], cur[3], v1[3], t_prev[3], t_cur[3];
-    load_lanes(q + j, prev);
-    load_lanes(q + j + 1, cur);
-    for (int a = 0; a < 3; ++a) v1[a] = cur[a] - prev[a];
-    t_prev[0] = load_lane(tx + j - 1), t_prev[1] = load_lane(ty + j - 1), t_prev[2] = load_lane(tz + j - 1);
-    t_cur[0] = load_lane(tx + j), t_cur[1] = load_lane(ty + j), t_cur[2] = load_lane(tz + j);
-    const Float4 k1 = 2.0f / load_lane(c1s + j);
-    const Float4 along = k1 * dot_lanes(v1, t_prev);
-    Float4 v2[3];
-    for (int a = 0; a < 3; ++a) v2[a] = t_cur[a] - (t_prev[a] - along * v1[a]);
+    // Double reflection: reflect (u, t) in the bisecting plane of the segment v1, then in the plane
+    // that takes the reflected tangent t_l onto the new one, along v2 = t_j - t_l. Reflections keep
+    // lengths and angles, so u stays a unit vector perpendicular to the tangent (to rounding: about
+    // 1e-7 per point) without normalising it again.
+    const Float4(&t_prev)[3] = tangents[j - 1];
+    const Float4(&t)[3] = tangents[j];
+    Float4 v1[3], v2[3], reflected[3], twice[3];
+    for (int a = 0; a < 3; ++a) v1[a] = q[j + 1][a] - q[j][a];
+    const Float4 k1 = 2.0f / c1s[j];
+    const Float4 along_t = k1 * dot_lanes(v1, t_prev);
+    for (int a = 0; a < 3; ++a) v2[a] = t[a] - (t_prev[a] - along_t * v1[a]);
     const Float4 c2 = dot_lanes(v2, v2);
-    store_lane(v1x + j, v1[0]);
-    store_lane(v1y + j, v1[1]);
-    store_lane(v1z + j, v1[2]);
-    store_lane(k1s + j, k1);
-    store_lane(v2x + j, v2[0]);
-    store_lane(v2y + j, v2[1]);
-    store_lane(v2z + j, v2[2]);
-    store_lane(c2s + j, c2);
-    store_lane(k2s + j, 2.0f / c2);
-  }
-
-  const Eigen::Vector3f t0(tx[0], ty[0], tz[0]);
-  Eigen::Vector3f u = posed_frame.basis.col(0) - t0 * t0.dot(posed_frame.basis.col(0));
-  if (u.squaredNorm() < 1e-12f) u = t0.unitOrthogonal();
-  u = unit(u);
-  float ux = u.x(), uy = u.y(), uz = u.z();
-  for (int64_t j = 1; j < n; ++j) {
-    if (c1s[j] > 0.0f) {
-      // Reflections keep lengths and angles, so u stays a unit vector perpendicular to the tangent
-      // (to rounding: about 1e-7 per point) without normalising it again, which would put a square
-      // root and a division on the chain that links each point's u to the last one's.
-      const float along = k1s[j] * (v1x[j] * ux + (v1y[j] * uy + v1z[j] * uz));
-      ux -= along * v1x[j];
-      uy -= along * v1y[j];
-      uz -= along * v1z[j];
-      if (c2s[j] > 1e-12f) {
-        const float across = k2s[j] * (v2x[j] * ux + (v2y[j] * uy + v2z[j] * uz));
-        ux -= across * v2x[j];
-        uy -= across * v2y[j];
-        uz -= across * v2z[j];
-      }
+    const Float4 along = k1 * dot_lanes(v1, u);
+    for (int a = 0; a < 3; ++a) reflected[a] = u[a] - along * v1[a];
+    const Float4 across = (2.0f / c2) * dot_lanes(v2, reflected);
+    for (int a = 0; a < 3; ++a) twice[a] = reflected[a] - across * v2[a];
+    // A zero-length segment leaves u as it is; a second plane too thin to reflect in, after the first.
+    const Int4 first_plane = c1s[j] > 0.0f, second_plane = c2 > 1e-12f;
+    for (int a = 0; a < 3; ++a) u[a] = first_plane ? (second_plane ? twice[a] : reflected[a]) : u[a];
+    Float4 fraction;
+    if (same_ramp) {
+      fraction = Float4{} + ramp.values[size_t(j)];
+    } else {
+      for (int s = 0; s < 4; ++s) fraction[s] = point_count[s] > j ? ramp.at(j, point_count[s]) : 0.0f;
     }
-    const float r = radius * ramp.at(j, n);
-    if (r == 0.0f) continue;
-    // v = t x u.
-    const float vx = ty[j] * uz - tz[j] * uy, vy = tz[j] * ux - tx[j] * uz, vz = tx[j] * uy - ty[j] * ux;
-    const float c = cosines[j], s = sines[j];
-    pts[j] = p[j] + Eigen::Vector3f(r * (c * ux + s * vx), r * (c * uy + s * vy), r * (c * uz + s * vz));
+    const Float4 r = radius * fraction;
+    const int written = lane_bits((Int4{} + int32_t(j) < point_count) & (r != 0.0f));
+    if (written == 0) continue;
+    // v = t x u; the point moves by r (cos phi u + sin phi v).
+    const Float4 v[3] = {t[1] * u[2] - t[2] * u[1], t[2] * u[0] - t[0] * u[2], t[0] * u[1] - t[1] * u[0]};
+    Float4 moved[3];
+    for (int a = 0; a < 3; ++a) moved[a] = q[j + 1][a] + r * (cosine * u[a] + sine * v[a]);
+    for (int s = 0; s < 4; ++s)
+      if (written >> s & 1)
+        r_strands.positions[size_t(r_strands.offsets[size_t(first + s)] + j)] =
+            Eigen::Vector3f(moved[0][s], moved[1][s], moved[2][s]);
   }
 }
 
@@ -797,26 +819,50 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   auto keep_out_of_skin = [&](int64_t i, std::span<Eigen::Vector3f> pts) {
     const size_t first = size_t(r_strands.offsets[i]);
     const Eigen::Vector3f *grown = grown_positions.data() + first;
+    const int64_t count = int64_t(pts.size());
     SkinGuard guard(posed_query, skin_margin, scale, &grid);
     guard.start(pts[0], root_points_[i].triangle);  // the root never moves and lies on the skin
-    for (size_t j = 1; j < pts.size(); ++j) {
-      const float before = clearance.empty() ? skin_margin : clearance[first + j];
-      // Moved by at most before - margin: still outside by the margin. The guard is told the grown
-      // point and its bound, from which its next bounds follow at least as well as from this point
-      // (triangle inequality), with no square root here.
-      const float room = before - skin_margin;
-      const float moved_sq = (pts[j] - grown[j]).squaredNorm();
-      if (room >= 0.0f && moved_sq <= room * room && !grid.near_open_edge(pts[j])) {
-        guard.know(grown[j], before);
+    // Four points at a time, the proof that needs no search: moved by at most before - margin, still
+    // outside by the margin. The guard is told the grown point and its bound, from which its next
+    // bounds follow at least as well as from this point (triangle inequality), with no square root
+    // here; of a run of such points only the last one's matters (each replaces what the guard knew).
+    // Moving a point changes no later point's test, so a batch is tested before any point of it moves.
+    for (int64_t batch = 1; batch < count; batch += 4) {
+      const int64_t lanes = std::min<int64_t>(4, count - batch);
+      Float4 before = Float4{} + skin_margin, moved_sq;
+      if (lanes == 4) {
+        Float4 moved[3], from[3];
+        load_lanes(pts.data() + batch, moved);
+        load_lanes(grown + batch, from);
+        for (int a = 0; a < 3; ++a) moved[a] -= from[a];
+        moved_sq = dot_lanes(moved, moved);
+        if (!clearance.empty()) before = load_lane(clearance.data() + first + size_t(batch));
+      } else {
+        for (int64_t l = 0; l < lanes; ++l) {
+          moved_sq[l] = (pts[size_t(batch + l)] - grown[batch + l]).squaredNorm();
+          if (!clearance.empty()) before[l] = clearance[first + size_t(batch + l)];
+        }
+      }
+      const Float4 room = before - skin_margin;
+      const int proven = lane_bits((room >= 0.0f) & (moved_sq <= room * room));
+      if (proven == 15 && !grid.has_open_edges()) {
+        guard.know(grown[batch + 3], before[3]);
         continue;
       }
-      // The first point after the root, moved from where growth proved it outside (often just at the
-      // margin: pushed there). The guard knows only the root, on the skin, from which no bound
-      // follows; but an empty ball of the margin's radius proves the point outside, on its way from
-      // its grown place, far cheaper than the exact search. It fails for a point moved nearer the
-      // skin: then the search.
-      if (j == 1 && guard.clear_by_ball(pts[j], skin_margin, before, std::sqrt(moved_sq))) continue;
-      guard.keep_out(pts[j]);
+      for (int64_t l = 0; l < lanes; ++l) {
+        const int64_t j = batch + l;
+        if ((proven >> l & 1) && !grid.near_open_edge(pts[size_t(j)])) {
+          guard.know(grown[j], before[l]);
+          continue;
+        }
+        // The first point after the root, moved from where growth proved it outside (often just at
+        // the margin: pushed there). The guard knows only the root, on the skin, from which no bound
+        // follows; but an empty ball of the margin's radius proves the point outside, on its way from
+        // its grown place, far cheaper than the exact search. It fails for a point moved nearer the
+        // skin: then the search.
+        if (j == 1 && guard.clear_by_ball(pts[1], skin_margin, before[l], std::sqrt(moved_sq[l]))) continue;
+        guard.keep_out(pts[size_t(j)]);
+      }
     }
   };
 
@@ -847,61 +893,79 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
 #pragma omp parallel
     {
       Scratch scratch;
-#pragma omp for schedule(static, 64)
-      for (int64_t i = 0; i < n; ++i) {
-        const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
-        if (first == 0) std::copy(pts.begin(), pts.end(), grown_positions.begin() + r_strands.offsets[size_t(i)]);
+      // Blocks of four strands: curl carries its frames along the four at once (apply_curl); every
+      // other effect and the skin pass take them one by one.
+      const int64_t block_count = (n + 3) / 4;
+#pragma omp for schedule(static, 16)
+      for (int64_t block = 0; block < block_count; ++block) {
+        const int64_t begin = 4 * block, count = std::min<int64_t>(4, n - begin);
+        if (first == 0)
+          for (int64_t i = begin; i < begin + count; ++i) {
+            const std::span<const Eigen::Vector3f> pts = r_strands.points(size_t(i));
+            std::copy(pts.begin(), pts.end(), grown_positions.begin() + r_strands.offsets[size_t(i)]);
+          }
         if (clump_pass) {
           const Prepared &e = effects_[first];
-          if (e.strength[i] != 0.0f) {
+          for (int64_t i = begin; i < begin + count; ++i) {
+            if (e.strength[i] == 0.0f) continue;
             const int64_t slot = e.centre_slot[size_t(i)];
             const bool tabulated = r_strands.points_in(size_t(e.centres[size_t(slot)])) == common_count;
             apply_clump(e, ramps[first], size_t(i), r_strands, tabulated ? axes.data() + slot * common_count : nullptr,
-                        pts);
+                        r_strands.points_for_write(size_t(i)));
           }
         } else {
-          bool frame_ready = false;
-          SurfaceFrame posed_frame;
+          // The root frames on the posed mesh, computed for the strands some effect moves.
+          SurfaceFrame posed_frames[4];
+          bool frame_ready[4] = {};
           for (size_t k = first; k < last; ++k) {
             const Prepared &e = effects_[k];
-            if (e.strength[i] == 0.0f) continue;
-            if (!frame_ready) {
-              posed_frame = surface_frame(posed_mesh, root_points_[i]);
-              frame_ready = true;
-            }
-            switch (e.desc.type) {
-              case EffectType::clump:
-                break;
-              case EffectType::tension: {
-                const size_t g = size_t(nearest_guide_[i]);
-                std::span<const Eigen::Vector3f> offsets(guide_offsets.data() + g * size_t(common_count),
-                                                         size_t(common_count));
-                if (int64_t(pts.size()) != common_count) {
-                  const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
-                                                   size_t(guides_this_frame.points_in(g)));
-                  scratch.guide_offsets.resize(pts.size());
-                  guide_offsets_at(guides_this_frame.points(g), cum, int64_t(pts.size()), scratch.guide_offsets.data());
-                  offsets = scratch.guide_offsets;
-                }
-                const Eigen::Matrix3f rotation =
-                    Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frame.normal()).toRotationMatrix();
-                apply_tension(e, ramps[k], size_t(i), offsets, guide_lengths[g], rotation, pts, scratch);
-                break;
+            for (int64_t s = 0; s < count; ++s)
+              if (e.strength[size_t(begin + s)] != 0.0f && !frame_ready[s]) {
+                posed_frames[s] = surface_frame(posed_mesh, root_points_[size_t(begin + s)]);
+                frame_ready[s] = true;
               }
-              case EffectType::length:
-                apply_length(e, size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
-                break;
-              case EffectType::wave:
-              case EffectType::frizz:
-                apply_noise(e, ramps[k], size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
-                break;
-              case EffectType::curl:
-                apply_curl(e, ramps[k], size_t(i), ids_[i], posed_frame, pts, scratch);
-                break;
+            if (e.desc.type == EffectType::curl) {
+              apply_curl(e, ramps[k], begin, count, ids_, posed_frames, r_strands, scratch);
+              continue;
+            }
+            for (int64_t s = 0; s < count; ++s) {
+              const int64_t i = begin + s;
+              if (e.strength[i] == 0.0f) continue;
+              const SurfaceFrame &posed_frame = posed_frames[s];
+              const std::span<Eigen::Vector3f> pts = r_strands.points_for_write(size_t(i));
+              switch (e.desc.type) {
+                case EffectType::clump:
+                case EffectType::curl:
+                  break;
+                case EffectType::tension: {
+                  const size_t g = size_t(nearest_guide_[i]);
+                  std::span<const Eigen::Vector3f> offsets(guide_offsets.data() + g * size_t(common_count),
+                                                           size_t(common_count));
+                  if (int64_t(pts.size()) != common_count) {
+                    const std::span<const float> cum(guide_cum.data() + guides_this_frame.offsets[g],
+                                                     size_t(guides_this_frame.points_in(g)));
+                    scratch.guide_offsets.resize(pts.size());
+                    guide_offsets_at(guides_this_frame.points(g), cum, int64_t(pts.size()), scratch.guide_offsets.data());
+                    offsets = scratch.guide_offsets;
+                  }
+                  const Eigen::Matrix3f rotation =
+                      Eigen::Quaternionf::FromTwoVectors(guide_normals[g], posed_frame.normal()).toRotationMatrix();
+                  apply_tension(e, ramps[k], size_t(i), offsets, guide_lengths[g], rotation, pts, scratch);
+                  break;
+                }
+                case EffectType::length:
+                  apply_length(e, size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
+                  break;
+                case EffectType::wave:
+                case EffectType::frizz:
+                  apply_noise(e, ramps[k], size_t(i), ids_[i], rest_frames_[i], posed_frame, pts, scratch);
+                  break;
+              }
             }
           }
         }
-        if (ends_stack) keep_out_of_skin(i, pts);
+        if (ends_stack)
+          for (int64_t i = begin; i < begin + count; ++i) keep_out_of_skin(i, r_strands.points_for_write(size_t(i)));
       }
     }
     first = last;

@@ -52,6 +52,8 @@ class SkinGrid {
     const Eigen::Vector3i c = cell_of(p);
     return near_open_edge_[cell_index(c.x(), c.y(), c.z())] != 0;
   }
+  /// Whether the mesh has an open edge at all (else near_open_edge is false everywhere).
+  bool has_open_edges() const { return !near_open_edge_.empty(); }
 
  private:
   /// The cell holding p, clamped to the grid (a point outside it gets the nearest cell).

@@ -414,8 +414,10 @@ TEST_CASE("a YAML syntax error becomes an InputError at its line:column", "[io]"
   const std::string path = (data_dir / "bad/syntax_error.groom.yaml").string();
   const std::string message = error_of(path);
   INFO(message);
-  CHECK(std::regex_search(message, std::regex("^" + std::regex_replace(path, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
-                                                  R"(:5:\d+: YAML syntax error: )")));
+  std::string pattern = "^";
+  pattern.append(std::regex_replace(path, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)"));
+  pattern.append(R"(:5:\d+: YAML syntax error: )");
+  CHECK(std::regex_search(message, std::regex(pattern)));
 }
 
 TEST_CASE("a missing groom file is an InputError naming it", "[io]") {

@@ -224,15 +224,20 @@ struct Scratch {
   std::vector<Float4> curl_lanes;
 };
 
-/// A strand's points copied to scratch.points with one copy of the root before them and copies of
-/// the tip after them (at least 5), so that four-point batches read the neighbours p_(j-1) and
+/// A strand's points laid out in r_copy[0 .. size) with one copy of the root before them and copies
+/// of the tip after them (size >= pts.size() + 1), so that batches read the neighbours p_(j-1) and
 /// p_(j+1) clamped at the ends without a test: point j is at index j + 1.
+void pad_strand(std::span<const Eigen::Vector3f> pts, Eigen::Vector3f *r_copy, size_t size) {
+  r_copy[0] = pts[0];
+  std::copy(pts.begin(), pts.end(), r_copy + 1);
+  std::fill(r_copy + 1 + pts.size(), r_copy + size, pts.back());
+}
+
+/// A strand's points padded (pad_strand) in scratch.points, with at least 5 copies of the tip: four-
+/// point batches read past it.
 const Eigen::Vector3f *padded_copy(std::span<const Eigen::Vector3f> pts, Scratch &scratch) {
-  const size_t n = pts.size();
-  scratch.points.resize(((n + 3) & ~size_t(3)) + 6);
-  scratch.points[0] = pts[0];
-  std::copy(pts.begin(), pts.end(), scratch.points.begin() + 1);
-  std::fill(scratch.points.begin() + ptrdiff_t(n + 1), scratch.points.end(), pts[n - 1]);
+  scratch.points.resize(((pts.size() + 3) & ~size_t(3)) + 6);
+  pad_strand(pts, scratch.points.data(), scratch.points.size());
   return scratch.points.data();
 }
 
@@ -635,7 +640,7 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, int64_t
       longest = std::max(longest, int64_t(point_count[s]));
     }
   if (longest == 0) return;
-  // Each lane's strand as padded_copy lays it out (point j at index j + 1, the root repeated before,
+  // Each lane's strand as pad_strand lays it out (point j at index j + 1, the root repeated before,
   // the tip after), read at longest + 2 indices; lanes left alone read a moved strand of the block.
   const size_t stride = size_t(longest + 8);
   scratch.curl_points.resize(4 * stride);
@@ -644,13 +649,7 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, int64_t
   for (int64_t s = 0; s < 4; ++s) source[s] = s < count && point_count[s] > 0 ? first + s : -1;
   for (int64_t s = 0; s < 4; ++s)
     if (source[s] < 0) source[s] = *std::max_element(source, source + 4);
-  for (int64_t s = 0; s < 4; ++s) {
-    const std::span<const Eigen::Vector3f> pts = r_strands.points(size_t(source[s]));
-    Eigen::Vector3f *copy = copies + size_t(s) * stride;
-    copy[0] = pts[0];
-    std::copy(pts.begin(), pts.end(), copy + 1);
-    std::fill(copy + 1 + pts.size(), copy + stride, pts.back());
-  }
+  for (int64_t s = 0; s < 4; ++s) pad_strand(r_strands.points(size_t(source[s])), copies + size_t(s) * stride, stride);
   // q[k][a]: coordinate a of index k of the four copies, one per lane (a 4 x 4 transpose of each
   // point read with the float after it).
   const size_t index_count = size_t(longest + 2);
@@ -662,13 +661,9 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, int64_t
   for (size_t k = 0; k < index_count; ++k) {
     Float4 rows[4];
     for (size_t s = 0; s < 4; ++s) rows[s] = load_lane(copies[s * stride + k].data());
-    const Float4 low01 = __builtin_shuffle(rows[0], rows[1], Int4{0, 4, 1, 5});
-    const Float4 low23 = __builtin_shuffle(rows[2], rows[3], Int4{0, 4, 1, 5});
-    const Float4 high01 = __builtin_shuffle(rows[0], rows[1], Int4{2, 6, 3, 7});
-    const Float4 high23 = __builtin_shuffle(rows[2], rows[3], Int4{2, 6, 3, 7});
-    q[k][0] = __builtin_shuffle(low01, low23, Int4{0, 1, 4, 5});
-    q[k][1] = __builtin_shuffle(low01, low23, Int4{2, 3, 6, 7});
-    q[k][2] = __builtin_shuffle(high01, high23, Int4{0, 1, 4, 5});
+    Float4 lanes[4];
+    transpose4(rows, lanes);
+    for (int a = 0; a < 3; ++a) q[k][a] = lanes[a];
   }
   // Per point j: the unit tangent (central difference inside, one-sided at the ends), the squared
   // length c1 of the segment from point j - 1, and the arc length.

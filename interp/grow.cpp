@@ -266,14 +266,7 @@ void load_quad(const GuideSegment *const segments[4], Int4 index, int quad, Floa
   Float4 rows[4];
   for (int l = 0; l < 4; ++l)
     std::memcpy(&rows[l], reinterpret_cast<const float *>(segments[l] + index[l]) + 4 * quad, sizeof(Float4));
-  const Float4 low01 = __builtin_shufflevector(rows[0], rows[1], 0, 4, 1, 5);
-  const Float4 low23 = __builtin_shufflevector(rows[2], rows[3], 0, 4, 1, 5);
-  const Float4 high01 = __builtin_shufflevector(rows[0], rows[1], 2, 6, 3, 7);
-  const Float4 high23 = __builtin_shufflevector(rows[2], rows[3], 2, 6, 3, 7);
-  r[0] = __builtin_shufflevector(low01, low23, 0, 1, 4, 5);
-  r[1] = __builtin_shufflevector(low01, low23, 2, 3, 6, 7);
-  r[2] = __builtin_shufflevector(high01, high23, 0, 1, 4, 5);
-  r[3] = __builtin_shufflevector(high01, high23, 2, 3, 6, 7);
+  transpose4(rows, r);
 }
 
 /// The influencing guides of one strand as the streamline field walks them, four to a group (one

@@ -35,6 +35,18 @@ inline int lane_bits(Int4 mask) {
 /// Whether any lane of a comparison is true.
 inline bool any(Int4 mask) { return lane_bits(mask) != 0; }
 
+/// The 4 x 4 transpose: r[c][l] = rows[l][c] (four records of four floats turned into lanes).
+inline void transpose4(const Float4 rows[4], Float4 r[4]) {
+  const Float4 low01 = __builtin_shufflevector(rows[0], rows[1], 0, 4, 1, 5);
+  const Float4 low23 = __builtin_shufflevector(rows[2], rows[3], 0, 4, 1, 5);
+  const Float4 high01 = __builtin_shufflevector(rows[0], rows[1], 2, 6, 3, 7);
+  const Float4 high23 = __builtin_shufflevector(rows[2], rows[3], 2, 6, 3, 7);
+  r[0] = __builtin_shufflevector(low01, low23, 0, 1, 4, 5);
+  r[1] = __builtin_shufflevector(low01, low23, 2, 3, 6, 7);
+  r[2] = __builtin_shufflevector(high01, high23, 0, 1, 4, 5);
+  r[3] = __builtin_shufflevector(high01, high23, 2, 3, 6, 7);
+}
+
 /// Sine and cosine of four angles (radians) with only adds, multiplies and one conversion: the same
 /// bits on every machine, unlike the C library's, whose code differs with the processor. The angle
 /// is reduced by the nearest multiple of pi/2 (pi/2 split in three parts, exact products for

@@ -202,21 +202,16 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
 
 /// Per guide point (indexed like the guides' positions), a lower bound of its signed distance to
 /// the skin, within a factor of two of it. Each guide is walked from its root; a point takes the
-/// better of the 1-Lipschitz bound from the last queried point and a bound on its distance to every
-/// triangle (the grid's cell bound, or the distance to the mesh's box; the point cannot have crossed
-/// the skin since the previous one, as SkinGuard::keep_out argues), and is queried only where that
-/// falls below half of the last queried distance: a few queries per guide.
+/// better of the 1-Lipschitz bound from the last queried point and the grid's bound on its distance
+/// to every triangle (SkinGrid::distance_lower_bound; the point cannot have crossed the skin since
+/// the previous one, as SkinGuard::keep_out argues), and is queried only where that falls below half
+/// of the last queried distance: a few queries per guide.
 /// -infinity (no bound) next to an open edge of the mesh, where the side of a point is not kept by
 /// moving without crossing the skin (SkinGrid::near_open_edge).
 std::vector<float> guide_clearances(const StrandSet &guides, const std::vector<SurfacePoint> &guide_roots,
                                     const MeshQuery &query, const SkinGrid &skin_grid) {
   std::vector<float> clearances(guides.point_count());
   const int64_t guide_count = int64_t(guides.strand_count());
-  Eigen::Vector3f lowest = Eigen::Vector3f::Constant(INFINITY), highest = -lowest;
-  for (const Eigen::Vector3f &v : query.mesh().positions) {
-    lowest = lowest.cwiseMin(v);
-    highest = highest.cwiseMax(v);
-  }
 #pragma omp parallel for schedule(dynamic, 16)
   for (int64_t g = 0; g < guide_count; ++g) {
     SurfacePoint hint = guide_roots[size_t(g)];
@@ -231,10 +226,7 @@ std::vector<float> guide_clearances(const StrandSet &guides, const std::vector<S
       }
       clearance = queried - (p - queried_point).norm();
       if (!(clearance >= 0.5f * queried)) {
-        // The grid's cell bound, or outside the grid (which the cells do not bound) the distance
-        // to the box of the mesh's vertices.
-        const float box_distance = (lowest - p).cwiseMax(p - highest).cwiseMax(0.0f).norm();
-        const float lower = std::max(skin_grid.distance_lower_bound(p), box_distance);
+        const float lower = skin_grid.distance_lower_bound(p);
         if (previous > 0.0f && lower > 0.0f && previous + lower > (p - previous_point).norm())
           clearance = std::max(clearance, lower);
       }

@@ -95,6 +95,7 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
   }
   dims_ = Eigen::Vector3i::Ones();
   origin_ = lo;
+  box_high_ = hi;
   if (used == 0) return;
   // Cells of about two mean edges, at most 128 per axis.
   const Eigen::Vector3f extent = (hi - lo).cwiseMax(1e-12f);
@@ -251,7 +252,9 @@ float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {
   if (cell_distance_.empty()) return 0.0f;
   const Eigen::Vector3i c = cell_of(p);
   const int k = cell_distance_[cell_index(c.x(), c.y(), c.z())];
-  return float(std::max(k - 1, 0)) * cell_size_;
+  const float cells = float(std::max(k - 1, 0)) * cell_size_;
+  const float outside_sq = (origin_ - p).cwiseMax(p - box_high_).cwiseMax(0.0f).squaredNorm();
+  return outside_sq > cells * cells ? std::sqrt(outside_sq) : cells;
 }
 
 float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {

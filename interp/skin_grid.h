@@ -37,7 +37,9 @@ class SkinGrid {
   /// Far cheaper than a distance query when only "at least this far" is needed.
   bool clear_within(const Eigen::Vector3f &p, float radius) const;
   /// A lower bound of the (unsigned) distance from p to the surface, from the chessboard distance
-  /// of p's cell to the nearest cell holding a triangle: (k - 1) * cell size. No search.
+  /// of p's cell to the nearest cell holding a triangle: (k - 1) * cell size; outside the box of the
+  /// triangles (where the cells, clamped to the grid, bound little) the distance to that box when
+  /// larger. No search.
   float distance_lower_bound(const Eigen::Vector3f &p) const;
   /// A tighter lower bound near the skin: the distance from p to the nearest box of a cell holding a
   /// triangle among the 27 cells around p's cell, or to the faces of that block (at least one cell
@@ -96,7 +98,8 @@ class SkinGrid {
 
   const Mesh &mesh_;
   const MeshQuery &query_;
-  Eigen::Vector3f origin_;
+  Eigen::Vector3f origin_;       // the low corner of the grid and of the box of its triangles
+  Eigen::Vector3f box_high_ = Eigen::Vector3f::Zero();  // the high corner of that box
   float cell_size_ = 1.0f;
   Eigen::Vector3i dims_;
   /// Four triangles as a cell lists them (SIMD lanes), each with a bounding disc in its plane, so

@@ -91,6 +91,18 @@ TEST_CASE("skin grid: exact searches agree with the tree, bounds never exceed th
   // The block bound is not only safe but useful: within a factor 2 of the distance for many points.
   UNSCOPED_INFO("block bounds within a factor 2: " << block_tight);
   CHECK(block_tight > 100);
+
+  // Far outside the grid (hair hanging below a head), where the cells clamped to the grid bound
+  // little, the distance bound is the distance to the triangles' box: safe, and within a factor of
+  // two of the distance from a few radii out.
+  for (const Eigen::Vector3f &direction : {Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(1, 1, 1).normalized(),
+                                           Eigen::Vector3f(-0.3f, 0.9f, 0.2f).normalized()})
+    for (const float distance : {2.0f, 5.0f, 40.0f}) {
+      const Eigen::Vector3f p = (1.0f + distance) * direction;
+      const float exact = query.signed_distance(p);
+      CHECK(grid.distance_lower_bound(p) <= exact + 1e-5f);
+      CHECK(grid.distance_lower_bound(p) >= 0.5f * exact);
+    }
 }
 
 TEST_CASE("streamline growth's clearance is a lower bound of every point's distance to the skin", "[interp]") {

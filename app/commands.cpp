@@ -14,6 +14,7 @@
 
 #include "app/pipeline.h"
 #include "groom/error.h"
+#include "io/file_scan.h"
 
 namespace plume {
 
@@ -156,8 +157,8 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
   long name_max = 255;  // the longest file or folder name where the files go (pathconf)
   auto check_name = [&](const fs::path &path, const fs::path &name) {
     if (long(name.native().size()) > name_max)
-      throw InputError(what + ": cannot write " + path.string() + ": the name \"" + name.string().substr(0, 40) +
-                       "...\" has " + std::to_string(name.native().size()) + " bytes, more than the " +
+      throw InputError(what + ": cannot write " + path.string() + ": the name " + io::detail::quoted(name.string(), 40, true) +
+                       " has " + std::to_string(name.native().size()) + " bytes, more than the " +
                        std::to_string(name_max) + " the file system allows");
   };
   for (int64_t i = 0; i < count; ++i) {

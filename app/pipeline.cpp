@@ -59,7 +59,7 @@ double usable_memory_bytes() {
 /// skin clearances, the binding and the stack's and writer's working copies, about 300 bytes per
 /// strand and 32 per point (measured peak, 8 to 64 points per strand). The run would otherwise end
 /// in an allocation failure or swapping, after minutes of work.
-void check_memory_for(int64_t count, int points, const std::optional<FileLoc> &loc, const std::string &what) {
+void check_memory_for(int64_t count, int points, const FileLoc &loc, const std::string &what) {
   const double needed = double(count) * (300.0 + 32.0 * double(points));
   const double usable = usable_memory_bytes();
   if (usable <= 0.0 || needed <= usable) return;
@@ -68,8 +68,7 @@ void check_memory_for(int64_t count, int points, const std::optional<FileLoc> &l
                 needed / 1e9, usable / 1e9);
   const std::string message = what + ": " + std::to_string(count) + " strands of " + std::to_string(points) +
                               " points " + figures + " this run may use (regrow fewer strands, or fewer points per strand)";
-  if (loc) throw InputError(*loc, message);
-  throw InputError(message);
+  throw InputError(loc, message);
 }
 
 Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery &rest_query, const Guides &guides,
@@ -126,7 +125,7 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
   if (count <= 0 && count_override < 0)
     throw InputError(settings.loc, "roots.density: density x area gives no root (less than 1)");
   if (count_override >= 0)
-    check_memory_for(count, groom.points_per_strand, std::nullopt, "--strands");
+    check_memory_for(count, groom.points_per_strand, FileLoc{}, "--strands");
   else
     check_memory_for(count, groom.points_per_strand, settings.loc, settings.count > 0 ? "roots.count" : "roots.density");
   return scatter_roots(rest_mesh, count, settings.seed, mask, settings.loc);

@@ -17,15 +17,18 @@ struct FileLoc {
 
   /// "file:line:col", "file:line", "file@byte N" or "file", whichever is known.
   std::string str() const;
+  /// Whether anything of the place is known (a default FileLoc knows nothing).
+  bool known() const { return !file.empty() || line > 0 || byte_offset >= 0; }
 };
 
 /// Bad input: a malformed file, a missing file, a NaN, an absurd count, a degenerate mesh.
-/// what() is the full message "file:line:col: key.path: expected X, got Y".
+/// what() is the full message "file:line:col: key.path: expected X, got Y"; the message alone when
+/// the place is not known (a default FileLoc, as callers pass for input given in code).
 class InputError : public std::runtime_error {
  public:
   explicit InputError(const std::string &message) : std::runtime_error(message) {}
   InputError(const FileLoc &loc, const std::string &message)
-      : std::runtime_error(loc.str() + ": " + message), loc_(loc) {}
+      : std::runtime_error(loc.known() ? loc.str() + ": " + message : message), loc_(loc) {}
   const FileLoc &loc() const { return loc_; }
 
  private:

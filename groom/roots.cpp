@@ -42,10 +42,7 @@ Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::v
   if (count <= 0) return roots;
   const double total_area = masked_area(mesh, triangle_mask);
   // The message names the groom's roots settings when the caller gives them.
-  auto fail = [&](const std::string &what) {
-    if (where.file.empty()) throw InputError("roots: " + what);
-    throw InputError(where, "roots: " + what);
-  };
+  auto fail = [&](const std::string &what) { throw InputError(where, "roots: " + what); };
   if (!(total_area > 0.0)) fail("the selected faces (roots.groups, roots.near_guides) have no area to scatter roots on");
   // A triangle too large for float arithmetic has an infinite area (the reader's coordinate bound
   // keeps a loaded mesh clear of this); its normalised area would be NaN and no arrival time

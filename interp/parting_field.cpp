@@ -356,7 +356,6 @@ void PartingField::check_roots_have_guides(std::span<const SurfacePoint> roots) 
           impl_->zones_key + ": hard parting zone " + zone_name(z) +
           (impl_->zone_map_path.empty() ? "" : " (of " + impl_->zone_map_path + ")") +
           " has roots but no guide: add a guide whose root is in it, or keep roots out of it";
-      if (impl_->loc.file.empty()) throw InputError(message);
       throw InputError(impl_->loc, message);
     }
   }

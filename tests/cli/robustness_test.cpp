@@ -302,6 +302,15 @@ TEST_CASE("every output location of a run is checked before the first file is wr
   require_rejected("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --out " +
                        quoted(out.string() + "/" + long_name + ".####.usda"),
                    "has 310 bytes, more than the", scratch, out);
+  // The message shows the start of a long name cut before a whole UTF-8 character (a two-byte one
+  // would straddle byte 40 here), not in the middle of one.
+  std::string accented_name = "n";
+  for (int i = 0; i < 150; ++i) accented_name += "\xc3\xa9";
+  std::string shown = "the name \"n";
+  for (int i = 0; i < 19; ++i) shown += "\xc3\xa9";
+  require_rejected("regrow " + quoted(groom) + " --frames 1-2 --strands 20 --out " +
+                       quoted(out.string() + "/" + accented_name + ".####.usda"),
+                   shown + "...\" has 311 bytes", scratch, out);
   require_rejected("simulate " + quoted(dyn) + " --frames 1-2 --cache " + quoted(out.string() + "/" + long_name + "/c.#.hair"),
                    "--cache: cannot write", scratch, out);
   // Folders that do not exist yet are made.

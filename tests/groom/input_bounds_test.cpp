@@ -45,6 +45,15 @@ TEST_CASE("scatter_roots names the groom's roots settings when the selected face
   REQUIRE_THROWS_WITH(scatter_roots(sphere, 10, 1, none), Catch::Matchers::StartsWith("roots: the selected faces"));
 }
 
+TEST_CASE("an InputError at a place prefixes what is known of it, and nothing when nothing is", "[groom]") {
+  CHECK(std::string(InputError(FileLoc{}, "roots.count: expected a count").what()) == "roots.count: expected a count");
+  CHECK(std::string(InputError(FileLoc{"", 3}, "x: bad").what()) == "<input>:3: x: bad");
+  CHECK(std::string(InputError(FileLoc{"g.groom.yaml", 3, 7}, "x: bad").what()) == "g.groom.yaml:3:7: x: bad");
+  FileLoc binary{"m.ply"};
+  binary.byte_offset = 12;
+  CHECK(std::string(InputError(binary, "x: bad").what()) == "m.ply@byte 12: x: bad");
+}
+
 TEST_CASE("scatter_roots still places every root on many faces for a small count", "[groom]") {
   // Few roots on many triangles need the arrival time to grow past count + 2: the bounded search
   // must still find it.

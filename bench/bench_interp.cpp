@@ -113,6 +113,14 @@ int main() {
       std::printf("  %-42s %10.1f %14.3e %7.2fx %22.3e\n",
                   method == InterpolationSettings::Method::fur ? "fur" : "streamline", seconds * 1e3, rate,
                   rate / fur_rate, double(grown.point_count()) / cpu * omp_get_max_threads());
+      if (method == InterpolationSettings::Method::streamline) {
+        interp::GrowStats stats;
+        options.r_stats = &stats;
+        interp::grow(binding, mesh, query, roots, guides.strands, options, grown);
+        std::printf("    %.3f field evaluations per step; steps predicted %.1f%%, split near a guide %.2f%%\n",
+                    double(stats.evaluations) / double(stats.steps), 100.0 * double(stats.predicted_steps) / double(stats.steps),
+                    100.0 * double(stats.substepped_steps) / double(stats.steps));
+      }
     }
   }
   {

@@ -303,6 +303,8 @@ struct StreamlineField {
   float hit_distance_sq;
   float tie_sq;       // a later segment within this of the best wins (vertex ties go forward)
 
+  /// `r_nearest`: the distance to the nearest influencing guide (0 on one); `r_nearest_tangent`: that
+  /// guide's tangent at its chosen point.
   /// `r_clearance`: a lower bound of p's signed distance to the skin from the guides' own. The
   /// signed distance is 1-Lipschitz, so at the chosen point q, t along a segment of length L whose
   /// ends are c0 and c1 from the skin, sd(q) >= max(c0 - t, c1 - (L - t)), and sd(p) >= sd(q) - |p - q|
@@ -310,7 +312,7 @@ struct StreamlineField {
   /// found q: growth's skin guard then needs no query for most points away from the root.
   Eigen::Vector3f operator()(const Eigen::Vector3f &p, float arc, StreamlineSlots &slots,
                              const Eigen::Vector3f &fallback, float *r_nearest = nullptr,
-                             float *r_clearance = nullptr) const {
+                             float *r_clearance = nullptr, Eigen::Vector3f *r_nearest_tangent = nullptr) const {
     Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
     float weight_sum = 0.0f, hit_sum = 0.0f, nearest_sq = INFINITY;
     Float4 clearance = Float4{} - INFINITY;
@@ -417,7 +419,15 @@ struct StreamlineField {
       if (4 * group_index + 3 < slots.used && hit_sum == 0.0f && !any(best_sq <= hit_distance_sq)) {
         const Float4 x = weight * tangent[0], y = weight * tangent[1], z = weight * tangent[2];
         const Float4 counted = group.influence > 0.0f ? best_sq : Float4{} + INFINITY;
-        nearest_sq = std::min(nearest_sq, std::min(std::min(counted[0], counted[1]), std::min(counted[2], counted[3])));
+        if (r_nearest_tangent) {
+          for (int l = 0; l < 4; ++l)
+            if (counted[l] < nearest_sq) {
+              nearest_sq = counted[l];
+              *r_nearest_tangent = Eigen::Vector3f(tangent[0][l], tangent[1][l], tangent[2][l]);
+            }
+        } else {
+          nearest_sq = std::min(nearest_sq, std::min(std::min(counted[0], counted[1]), std::min(counted[2], counted[3])));
+        }
         for (int l = 0; l < 4; ++l) {
           blend.x() += x[l];
           blend.y() += y[l];
@@ -428,8 +438,11 @@ struct StreamlineField {
       }
       for (int l = 0; l < 4 && 4 * group_index + l < slots.used; ++l) {
         const float influence = group.influence[l];
-        if (influence > 0.0f) nearest_sq = std::min(nearest_sq, best_sq[l]);
         const Eigen::Vector3f direction(tangent[0][l], tangent[1][l], tangent[2][l]);
+        if (influence > 0.0f && best_sq[l] < nearest_sq) {
+          nearest_sq = best_sq[l];
+          if (r_nearest_tangent) *r_nearest_tangent = direction;
+        }
         if (best_sq[l] <= hit_distance_sq) {
           hit_blend += influence * direction;
           hit_sum += influence;
@@ -495,7 +508,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
 
   const int64_t root_count = int64_t(roots.size());
-#pragma omp parallel for schedule(static)
+  int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0;
+#pragma omp parallel for schedule(static) reduction(+ : steps, predicted_steps, substepped_steps, evaluations)
   for (int64_t r = 0; r < root_count; ++r) {
     const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
     const Eigen::Vector3f normal = root_frame.normal();
@@ -596,9 +610,11 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     // the skin that the guides give (StreamlineField).
     Eigen::Vector3f evaluated_at = root_frame.origin;
     float evaluated_clearance = -INFINITY;
-    auto evaluate = [&](const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest) {
+    auto evaluate = [&](const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest,
+                        Eigen::Vector3f *r_nearest_tangent = nullptr) {
+      ++evaluations;
       evaluated_at = p;
-      return field(p, arc, field_slots, fallback, r_nearest, &evaluated_clearance);
+      return field(p, arc, field_slots, fallback, r_nearest, &evaluated_clearance, r_nearest_tangent);
     };
     // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
     // keeps its length, and check again with a query (see SkinGuard::keep_out). A point that the
@@ -638,19 +654,26 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     // the step's start predicted from the directions found at the last two midpoints (linear
     // extrapolation, F(p_i) ~ 1.5 F(m_i-1/2) - 0.5 F(m_i-3/2)): the midpoint is then off by O(h^3) and
     // the step keeps the midpoint rule's order with one field evaluation instead of two. Smooth means
-    // that the second difference of those directions, with the new one, stays below
-    // kSmoothTurning; otherwise (a sharp bend of a guide, a tight curl, the strand pushed off by the
-    // skin) the step is redone in full from the field at its start. The first step, and any step where
-    // the nearest guide is closer than half a step (but not on it), are full steps too: there the field
-    // turns faster than one step resolves, so the step is split into substeps of about that distance
+    // that the second difference of those directions, with the new one, stays below kSmoothTurning
+    // (kNearSmoothTurning within half a step of a guide); otherwise (a sharp bend of a guide, a tight
+    // curl, the strand pushed off by the skin) the step is redone in full from the field at its start.
+    // The first step is a full step too.
+    // Near a guide, at distance d below half a step, the blend is that guide's tangent T plus a part
+    // that grows with d: F ~ T + d V, a cone with its tip on the guide, which turns by about
+    // (h / 2) |F - T| / d over half a step. Along guides that run alike, V is small and a step
+    // resolves it as anywhere else. Where it turns by more than kConeTurning (another guide near and
+    // pointing elsewhere, guides meeting at an angle), a full step is split into substeps of about d
     // (at most max_substeps), and the point lands one segment length along their chord.
     constexpr int max_substeps = 8;
-    constexpr float kSmoothTurning = 0.01f;
+    constexpr float kSmoothTurning = 0.01f, kNearSmoothTurning = 0.003f, kConeTurning = 0.02f;
     float nearest = 0.0f;
     bool history = false;  // last_middle and previous_middle hold the field at the last two midpoints
     Eigen::Vector3f last_middle = direction, previous_middle = direction;
     for (int i = 1; i + 1 < n; ++i) {
-      if (history && !(nearest > 0.0f && nearest < 0.5f * step)) {
+      ++steps;
+      if (history) {
+        const bool near_guide = nearest > 0.0f && nearest < 0.5f * step;
+        const float smooth = near_guide ? kNearSmoothTurning : kSmoothTurning;
         const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
         const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
         float middle_nearest = 0.0f;
@@ -658,7 +681,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         std::copy(field_slots.progress, field_slots.progress + field_slots.group_count, saved);
         const Eigen::Vector3f middle_direction =
             evaluate(middle, (float(i) + 0.5f) * step, start_direction, &middle_nearest);
-        if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= kSmoothTurning * kSmoothTurning) {
+        if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= smooth * smooth) {
+          ++predicted_steps;
           nearest = middle_nearest;
           points[i + 1] = advance(points[i], middle_direction);
           direction = unit_or(points[i + 1] - points[i], middle_direction);
@@ -670,10 +694,13 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         // The full step searches the guides from where they were.
         std::copy(saved, saved + field_slots.group_count, field_slots.progress);
       }
-      Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest);
-      const int substeps = nearest > 0.0f && nearest < 0.5f * step
+      Eigen::Vector3f nearest_tangent = Eigen::Vector3f::Zero();
+      Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest, &nearest_tangent);
+      const int substeps = nearest > 0.0f && nearest < 0.5f * step &&
+                                   0.5f * step * (start_direction - nearest_tangent).norm() > kConeTurning * nearest
                                ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
                                : 1;
+      if (substeps > 1) ++substepped_steps;
       const float substep = step / float(substeps);
       Eigen::Vector3f p = points[i], last_direction = direction;
       for (int sub = 0; sub < substeps; ++sub) {
@@ -693,6 +720,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     }
   }
 
+  if (options.r_stats) *options.r_stats = {steps, predicted_steps, substepped_steps, evaluations};
   for (const Eigen::Vector3f &p : r_strands.positions)
     if (!p.allFinite()) throw InternalError("grow: a strand point is not finite");
 }

@@ -58,6 +58,15 @@ struct Binding {
 Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, const InterpolationSettings &settings,
              const PartingField *partings = nullptr);
 
+/// How streamline growth took its steps, summed over the strands of one grow() call: the cost of a
+/// groom in field evaluations, and where it went.
+struct GrowStats {
+  int64_t steps = 0;             // segments grown through the field (all but each strand's first)
+  int64_t predicted_steps = 0;   // of those, taken with one field evaluation (a predicted midpoint)
+  int64_t substepped_steps = 0;  // of those, split into substeps near a guide
+  int64_t evaluations = 0;       // field evaluations (each searches every influencing guide)
+};
+
 struct GrowOptions {
   /// Points per output strand, >= 2 (the root is the first point).
   int points_per_strand = 32;
@@ -65,6 +74,8 @@ struct GrowOptions {
   float width_root = 0.02f;
   float width_tip = 0.005f;
   bool with_widths = true;
+  /// When set, streamline growth fills it (fur and linear leave it zero).
+  GrowStats *r_stats = nullptr;
 };
 
 /// Grows every root for one frame with binding.settings.method:

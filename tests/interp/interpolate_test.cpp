@@ -404,6 +404,56 @@ TEST_CASE("near a guide, the deviation from it shrinks to 0 as the root approach
   }
 }
 
+TEST_CASE("near a guide, steps are split only where the field turns: not along guides that run alike, where guides meet at an angle",
+          "[interp]") {
+  // Roots within half a step of a guide root (h = 0.8 / 31), eight around each guide of the cap.
+  CapScene scene([](int i) { return arc_shape(0.5f + 0.3f * float(i % 3)); }, 32, [](int) { return 0.8f; }, 1);
+  std::vector<Eigen::Vector3f> near_roots;
+  for (size_t g = 0; g < scene.guides.size(); ++g) {
+    const SurfaceFrame frame = surface_frame(scene.mesh, scene.guides.roots[g]);
+    for (const float distance : {0.002f, 0.005f, 0.01f})
+      for (int a = 0; a < 8; ++a) {
+        const float angle = 2.0f * float(M_PI) * float(a) / 8.0f;
+        near_roots.push_back(frame.origin + distance * (std::cos(angle) * frame.basis.col(0) + std::sin(angle) * frame.basis.col(1)));
+      }
+  }
+  auto stats_of = [](const Mesh &mesh, const MeshQuery &query, const Guides &guides, const Roots &roots, int k) {
+    const interp::Binding binding = interp::bind(mesh, guides, roots, settings_for(Method::streamline, k));
+    interp::GrowOptions options;
+    interp::GrowStats stats;
+    options.r_stats = &stats;
+    StrandSet strands;
+    interp::grow(binding, mesh, query, roots, guides.strands, options, strands);
+    return stats;
+  };
+  const interp::GrowStats alike = stats_of(scene.mesh, scene.query, scene.guides, roots_at(scene.query, near_roots), 4);
+  INFO("guides alike: " << alike.steps << " steps, " << alike.predicted_steps << " predicted, " << alike.substepped_steps
+                        << " substepped, " << alike.evaluations << " evaluations");
+  REQUIRE(alike.steps == int64_t(near_roots.size()) * 30);
+  CHECK(alike.substepped_steps == 0);
+  CHECK(alike.predicted_steps >= alike.steps * 9 / 10);
+  CHECK(alike.evaluations < alike.steps * 11 / 10);
+
+  // Two straight guides from roots 0.02 apart, 53 degrees between them (a V), and roots beside one.
+  const Mesh plane = make_plane(2.0f, 20);
+  const MeshQuery plane_query(plane);
+  StrandSet vee;
+  for (const float side : {-1.0f, 1.0f}) {
+    std::vector<Eigen::Vector3f> points;
+    for (int i = 0; i < 32; ++i) {
+      const float s = 0.8f * float(i) / 31.0f;
+      points.emplace_back(side * (0.01f + 0.5f * s), 0.0f, s);
+    }
+    vee.append(points, side < 0.0f ? 0 : 1);
+  }
+  const Guides vee_guides = bind_guides(plane_query, vee, "vee");
+  std::vector<Eigen::Vector3f> beside;
+  for (int i = 1; i < 10; ++i) beside.emplace_back(-0.01f + 0.0005f * float(i), 0.0f, 0.0f);
+  const interp::GrowStats meeting = stats_of(plane, plane_query, vee_guides, roots_at(plane_query, beside), 2);
+  INFO("guides at an angle: " << meeting.steps << " steps, " << meeting.substepped_steps << " substepped");
+  CHECK(meeting.substepped_steps >= meeting.steps / 10);
+}
+
 TEST_CASE("frame coherence: a small guide motion moves no strand point more than 1.5x the guides' motion", "[interp]") {
   CapScene scene([](int i) { return arc_shape(0.5f + 0.2f * float(i % 3)); }, 32, [](int) { return 0.8f; }, 300);
   // Each guide turns a little about its root, about an axis of its own.

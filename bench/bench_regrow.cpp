@@ -72,6 +72,14 @@ int main() {
       std::printf("%-10lld %-11s %12.1f %16.3e %9.2fx %18.3e\n", (long long)roots.size(),
                   method == InterpolationSettings::Method::fur ? "fur" : "streamline", seconds * 1e3, rate,
                   rate / fur_rate, cpu_rate);
+      if (method == InterpolationSettings::Method::streamline) {
+        interp::GrowStats stats;
+        options.r_stats = &stats;
+        interp::grow(binding, mesh, query, roots, guides.strands, options, strands);
+        std::printf("%-22s %.3f field evaluations per step; steps predicted %.1f%%, split near a guide %.2f%%\n", "",
+                    double(stats.evaluations) / double(stats.steps), 100.0 * double(stats.predicted_steps) / double(stats.steps),
+                    100.0 * double(stats.substepped_steps) / double(stats.steps));
+      }
     }
   }
   return 0;

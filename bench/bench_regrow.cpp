@@ -76,9 +76,7 @@ int main() {
         interp::GrowStats stats;
         options.r_stats = &stats;
         interp::grow(binding, mesh, query, roots, guides.strands, options, strands);
-        std::printf("%-22s %.3f field evaluations per step; steps predicted %.1f%%, split near a guide %.2f%%\n", "",
-                    double(stats.evaluations) / double(stats.steps), 100.0 * double(stats.predicted_steps) / double(stats.steps),
-                    100.0 * double(stats.substepped_steps) / double(stats.steps));
+        std::printf("%-22s %s\n", "", stats.summary().c_str());
       }
     }
   }

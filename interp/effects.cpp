@@ -67,7 +67,6 @@ Eigen::Vector3f point_at_length(std::span<const Eigen::Vector3f> pts, std::span<
   return pts[k] + a * (pts[k + 1] - pts[k]);
 }
 
-
 /// v / |v| with one division instead of three (a zero vector stays zero).
 Eigen::Vector3f unit(const Eigen::Vector3f &v) {
   const float length_sq = v.squaredNorm();

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <span>
@@ -466,6 +467,15 @@ struct StreamlineField {
 
 }  // namespace
 
+std::string GrowStats::summary() const {
+  const double per_step = steps > 0 ? 1.0 / double(steps) : 0.0;
+  char text[120];
+  std::snprintf(text, sizeof text, "%.3f field evaluations per step; steps predicted %.1f%%, split near a guide %.2f%%",
+                double(evaluations) * per_step, 100.0 * double(predicted_steps) * per_step,
+                100.0 * double(substepped_steps) * per_step);
+  return text;
+}
+
 void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
           const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands,
           std::vector<float> *r_clearance, const SkinGrid *shared_skin_grid) {
@@ -666,14 +676,14 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     // (at most max_substeps), and the point lands one segment length along their chord.
     constexpr int max_substeps = 8;
     constexpr float kSmoothTurning = 0.01f, kNearSmoothTurning = 0.003f, kConeTurning = 0.02f;
+    auto near_a_guide = [&](float distance) { return distance > 0.0f && distance < 0.5f * step; };
     float nearest = 0.0f;
     bool history = false;  // last_middle and previous_middle hold the field at the last two midpoints
     Eigen::Vector3f last_middle = direction, previous_middle = direction;
     for (int i = 1; i + 1 < n; ++i) {
       ++steps;
       if (history) {
-        const bool near_guide = nearest > 0.0f && nearest < 0.5f * step;
-        const float smooth = near_guide ? kNearSmoothTurning : kSmoothTurning;
+        const float smooth = near_a_guide(nearest) ? kNearSmoothTurning : kSmoothTurning;
         const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
         const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
         float middle_nearest = 0.0f;
@@ -696,7 +706,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       }
       Eigen::Vector3f nearest_tangent = Eigen::Vector3f::Zero();
       Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest, &nearest_tangent);
-      const int substeps = nearest > 0.0f && nearest < 0.5f * step &&
+      const int substeps = near_a_guide(nearest) &&
                                    0.5f * step * (start_direction - nearest_tangent).norm() > kConeTurning * nearest
                                ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
                                : 1;

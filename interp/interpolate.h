@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "groom/groom_desc.h"
@@ -65,6 +66,9 @@ struct GrowStats {
   int64_t predicted_steps = 0;   // of those, taken with one field evaluation (a predicted midpoint)
   int64_t substepped_steps = 0;  // of those, split into substeps near a guide
   int64_t evaluations = 0;       // field evaluations (each searches every influencing guide)
+
+  /// "1.092 field evaluations per step; steps predicted 94.4%, split near a guide 0.39%".
+  std::string summary() const;
 };
 
 struct GrowOptions {

@@ -253,6 +253,41 @@ struct Slot {
   Eigen::Matrix3f rotation;  // carries the guide at this frame to the root's frame
 };
 
+/// Points of earlier strands (of one thread) known to be outside the skin, with their signed
+/// distances or lower bounds of them: the last few strands' first points. No skin lies within that
+/// distance of such a point, so a point inside that ball by the margin is on its side, outside by the
+/// margin (1-Lipschitz, as SkinGuard argues within a strand). Roots come in the order of their
+/// triangles, so a strand's first point usually lies near an earlier one: its proof needs no search.
+class RecentOutside {
+ public:
+  /// The entry whose ball proves p outside by the most, at least `margin`; null when none does.
+  const std::pair<Eigen::Vector3f, float> *proving(const Eigen::Vector3f &p, float margin) const {
+    const std::pair<Eigen::Vector3f, float> *best = nullptr;
+    float best_bound = margin;
+    for (const auto &entry : entries_) {
+      const float bound = entry.second - (p - entry.first).norm();
+      if (bound >= best_bound) {
+        best_bound = bound;
+        best = &entry;
+      }
+    }
+    return best;
+  }
+  /// Keeps (p, distance) in place of the oldest entry.
+  void add(const Eigen::Vector3f &p, float distance) {
+    entries_[next_] = {p, distance};
+    next_ = (next_ + 1) % size;
+  }
+
+ private:
+  static constexpr int size = 4;  // as many as the roots of a triangle or two: more found little more
+  std::pair<Eigen::Vector3f, float> entries_[size] = {{Eigen::Vector3f::Zero(), -INFINITY},
+                                                      {Eigen::Vector3f::Zero(), -INFINITY},
+                                                      {Eigen::Vector3f::Zero(), -INFINITY},
+                                                      {Eigen::Vector3f::Zero(), -INFINITY}};
+  int next_ = 0;
+};
+
 /// Quad `quad` (0..3, see GuideSegment) of segment index[l] of segments[l] in each lane l, transposed:
 /// r[c] holds component c of the four lanes.
 void load_quad(const GuideSegment *const segments[4], Int4 index, int quad, Float4 r[4]) {
@@ -469,10 +504,13 @@ struct StreamlineField {
 
 std::string GrowStats::summary() const {
   const double per_step = steps > 0 ? 1.0 / double(steps) : 0.0;
-  char text[120];
-  std::snprintf(text, sizeof text, "%.3f field evaluations per step; steps predicted %.1f%%, split near a guide %.2f%%",
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "%.3f field evaluations per step; steps predicted %.1f%%, split near a guide %.2f%%; first points "
+                "proven from earlier strands %.1f%%",
                 double(evaluations) * per_step, 100.0 * double(predicted_steps) * per_step,
-                100.0 * double(substepped_steps) * per_step);
+                100.0 * double(substepped_steps) * per_step,
+                first_points > 0 ? 100.0 * double(first_points_proven) / double(first_points) : 0.0);
   return text;
 }
 
@@ -518,8 +556,13 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
 
   const int64_t root_count = int64_t(roots.size());
-  int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0;
-#pragma omp parallel for schedule(static) reduction(+ : steps, predicted_steps, substepped_steps, evaluations)
+  int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0, first_points = 0,
+          first_points_proven = 0;
+#pragma omp parallel reduction(+ : steps, predicted_steps, substepped_steps, evaluations, first_points, \
+                                   first_points_proven)
+  {
+  RecentOutside recent_outside;  // this thread's last strands' first points
+#pragma omp for schedule(static)
   for (int64_t r = 0; r < root_count; ++r) {
     const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
     const Eigen::Vector3f normal = root_frame.normal();
@@ -653,7 +696,18 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
     }
     Eigen::Vector3f direction = unit_or(seed, normal);
+    // The guard knows only the root, on the skin, from which no bound follows: an earlier strand's
+    // first point may prove this one outside (RecentOutside), else the guard searches. What the guard
+    // then knows is kept for the next strands.
+    ++first_points;
+    const std::pair<Eigen::Vector3f, float> *proof =
+        recent_outside.proving(points[0] + step * direction, settings.skin_margin);
+    if (proof) guard.know(proof->first, proof->second);
     points[1] = advance(points[0], direction);
+    if (proof && guard.known_point() == proof->first)
+      ++first_points_proven;
+    else
+      recent_outside.add(guard.known_point(), guard.known_distance());
     if (clearance) {
       clearance[r * n] = proven_clearance(points[0]);
       clearance[r * n + 1] = proven_clearance(points[1]);
@@ -729,8 +783,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
     }
   }
+  }
 
-  if (options.r_stats) *options.r_stats = {steps, predicted_steps, substepped_steps, evaluations};
+  if (options.r_stats)
+    *options.r_stats = {steps, predicted_steps, substepped_steps, evaluations, first_points, first_points_proven};
   for (const Eigen::Vector3f &p : r_strands.positions)
     if (!p.allFinite()) throw InternalError("grow: a strand point is not finite");
 }

@@ -45,6 +45,9 @@ class SkinGuard {
   }
   /// A lower bound of the signed distance at `p` from what the guard knows (1-Lipschitz bound).
   float lower_bound(const Eigen::Vector3f &p) const { return known_distance_ - (p - known_point_).norm(); }
+  /// The point the guard's bounds start from, and its signed distance or a lower bound of it.
+  const Eigen::Vector3f &known_point() const { return known_point_; }
+  float known_distance() const { return known_distance_; }
 
   /// Proves p outside by `radius` (at least the margin) without a distance query, and records it: no
   /// triangle lies within `radius` of p, and p cannot have crossed the skin since a point outside by

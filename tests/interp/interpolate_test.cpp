@@ -454,6 +454,40 @@ TEST_CASE("near a guide, steps are split only where the field turns: not along g
   CHECK(meeting.substepped_steps >= meeting.steps / 10);
 }
 
+// A strand's first point is the one its own skin guard cannot bound (the root is on the skin):
+// growth proves it from the balls round earlier strands' first points, which hold no skin, and
+// searches only where none of them reaches it by the margin.
+TEST_CASE("a strand's first point is proven outside from earlier strands' first points, never inside the margin",
+          "[interp]") {
+  CapScene scene([](int) { return arc_shape(1.0f); }, 32, [](int) { return 1.0f; }, 6000);
+  auto grow_with = [&](float margin, interp::GrowStats &r_stats) {
+    const interp::Binding binding =
+        interp::bind(scene.mesh, scene.guides, scene.roots, settings_for(Method::streamline, 4, margin));
+    interp::GrowOptions options;
+    options.r_stats = &r_stats;
+    StrandSet strands;
+    interp::grow(binding, scene.mesh, scene.query, scene.roots, scene.guides.strands, options, strands);
+    return strands;
+  };
+  std::vector<uint64_t> examples;
+  // Steps of 1/31 leave the skin along the normal: an earlier first point a root or two away proves
+  // most of them (a single thread, so that each strand follows the one before it).
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  interp::GrowStats rising;
+  const StrandSet strands = grow_with(0.005f, rising);
+  omp_set_num_threads(threads);
+  INFO("first points proven: " << rising.first_points_proven << " of " << rising.first_points);
+  CHECK(rising.first_points == int64_t(scene.roots.size()));
+  CHECK(rising.first_points_proven >= rising.first_points / 2);
+  CHECK(interp::count_points_inside(strands, scene.query, 0.005f, 0, examples) == 0);
+  // A margin above the first step's rise: every first point is pushed out to it, and no earlier one
+  // may spare a later one its push.
+  interp::GrowStats pushed;
+  const StrandSet kept_out = grow_with(0.05f, pushed);
+  CHECK(interp::count_points_inside(kept_out, scene.query, 0.05f, 0, examples) == 0);
+}
+
 TEST_CASE("frame coherence: a small guide motion moves no strand point more than 1.5x the guides' motion", "[interp]") {
   CapScene scene([](int i) { return arc_shape(0.5f + 0.2f * float(i % 3)); }, 32, [](int) { return 0.8f; }, 300);
   // Each guide turns a little about its root, about an axis of its own.

@@ -561,228 +561,228 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
 #pragma omp parallel reduction(+ : steps, predicted_steps, substepped_steps, evaluations, first_points, \
                                    first_points_proven)
   {
-  RecentOutside recent_outside;  // this thread's last strands' first points
+    RecentOutside recent_outside;  // this thread's last strands' first points
 #pragma omp for schedule(static)
-  for (int64_t r = 0; r < root_count; ++r) {
-    const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
-    const Eigen::Vector3f normal = root_frame.normal();
-    Slot slots[max_guides_per_root];
-    int used = 0;
-    for (int s = 0; s < k; ++s) {
-      const size_t slot = size_t(r) * size_t(k) + size_t(s);
-      const int32_t g = binding.guide_ids[slot];
-      if (g < 0) break;
-      // Q_root(t) * rest rotation * Q_guide(t)^T: a rigid motion of the skin gives back the rest
-      // rotation conjugated by that motion, so carried guides move exactly rigidly.
-      slots[used++] = {g, binding.weights[slot], binding.influence[slot],
-                       root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
-                           frame.frames[size_t(g)].transpose()};
-    }
-    Eigen::Vector3f *points = r_strands.positions.data() + r * n;
+    for (int64_t r = 0; r < root_count; ++r) {
+      const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
+      const Eigen::Vector3f normal = root_frame.normal();
+      Slot slots[max_guides_per_root];
+      int used = 0;
+      for (int s = 0; s < k; ++s) {
+        const size_t slot = size_t(r) * size_t(k) + size_t(s);
+        const int32_t g = binding.guide_ids[slot];
+        if (g < 0) break;
+        // Q_root(t) * rest rotation * Q_guide(t)^T: a rigid motion of the skin gives back the rest
+        // rotation conjugated by that motion, so carried guides move exactly rigidly.
+        slots[used++] = {g, binding.weights[slot], binding.influence[slot],
+                         root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
+                             frame.frames[size_t(g)].transpose()};
+      }
+      Eigen::Vector3f *points = r_strands.positions.data() + r * n;
 
-    if (settings.method == InterpolationSettings::Method::linear) {
-      // Root-relative offsets of the resampled guides, blended as they are (no rotation).
-      for (int i = 0; i < n; ++i) {
-        Eigen::Vector3f p = root_frame.origin;
-        for (int s = 0; s < used; ++s) {
-          const size_t g = size_t(slots[s].guide);
-          p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
+      if (settings.method == InterpolationSettings::Method::linear) {
+        // Root-relative offsets of the resampled guides, blended as they are (no rotation).
+        for (int i = 0; i < n; ++i) {
+          Eigen::Vector3f p = root_frame.origin;
+          for (int s = 0; s < used; ++s) {
+            const size_t g = size_t(slots[s].guide);
+            p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
+          }
+          points[i] = p;
         }
-        points[i] = p;
+        continue;
       }
-      continue;
-    }
 
-    // The root: on the skin, lifted along its normal by the height of the guides' own first points
-    // above their surface points (carried), never below the skin. Only the height: a sideways part
-    // would move the root off its place on the skin, and where the skin curves (round an ear) into it.
-    Eigen::Vector3f lift = Eigen::Vector3f::Zero();
-    for (int s = 0; s < used; ++s) {
-      const size_t g = size_t(slots[s].guide);
-      lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
-    }
-    const float height = std::max(lift.dot(normal), 0.0f);
-    points[0] = root_frame.origin + height * normal;
-    if (height > 1e-6f * scale && skin_grid) {
-      // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
-      // normals average its two sides) the normal can lead behind another part of the skin: then the
-      // root stays on the skin. A lift within the skin guard's tolerance (a millionth of the mesh
-      // size: guide roots on the skin up to rounding) cannot reach another part of it and needs no
-      // query.
-      SurfacePoint closest;
-      if (skin_grid->signed_distance(points[0], roots.points[size_t(r)].triangle, closest) < 0.0f)
-        points[0] = root_frame.origin;
-    }
+      // The root: on the skin, lifted along its normal by the height of the guides' own first points
+      // above their surface points (carried), never below the skin. Only the height: a sideways part
+      // would move the root off its place on the skin, and where the skin curves (round an ear) into it.
+      Eigen::Vector3f lift = Eigen::Vector3f::Zero();
+      for (int s = 0; s < used; ++s) {
+        const size_t g = size_t(slots[s].guide);
+        lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
+      }
+      const float height = std::max(lift.dot(normal), 0.0f);
+      points[0] = root_frame.origin + height * normal;
+      if (height > 1e-6f * scale && skin_grid) {
+        // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
+        // normals average its two sides) the normal can lead behind another part of the skin: then the
+        // root stays on the skin. A lift within the skin guard's tolerance (a millionth of the mesh
+        // size: guide roots on the skin up to rounding) cannot reach another part of it and needs no
+        // query.
+        SurfacePoint closest;
+        if (skin_grid->signed_distance(points[0], roots.points[size_t(r)].triangle, closest) < 0.0f)
+          points[0] = root_frame.origin;
+      }
 
-    if (settings.method == InterpolationSettings::Method::fur) {
-      // Segment j: weighted length and weighted direction of the carried guides' segments j.
-      Eigen::Vector3f direction = normal;
-      for (int i = 0; i + 1 < n; ++i) {
-        Eigen::Vector3f blend = Eigen::Vector3f::Zero();
-        float length = 0.0f;
-        for (int s = 0; s < used; ++s) {
-          const size_t at = size_t(slots[s].guide) * size_t(n - 1) + size_t(i);
-          blend += slots[s].weight * (slots[s].rotation * frame.resampled_directions[at]);
-          length += slots[s].weight * frame.resampled_lengths[at];
+      if (settings.method == InterpolationSettings::Method::fur) {
+        // Segment j: weighted length and weighted direction of the carried guides' segments j.
+        Eigen::Vector3f direction = normal;
+        for (int i = 0; i + 1 < n; ++i) {
+          Eigen::Vector3f blend = Eigen::Vector3f::Zero();
+          float length = 0.0f;
+          for (int s = 0; s < used; ++s) {
+            const size_t at = size_t(slots[s].guide) * size_t(n - 1) + size_t(i);
+            blend += slots[s].weight * (slots[s].rotation * frame.resampled_directions[at]);
+            length += slots[s].weight * frame.resampled_lengths[at];
+          }
+          direction = unit_or(blend, direction);
+          points[i + 1] = points[i] + length * direction;
         }
-        direction = unit_or(blend, direction);
-        points[i + 1] = points[i] + length * direction;
+        continue;
       }
-      continue;
-    }
 
-    // Streamline-ratio growth.
-    const float step = binding.lengths[size_t(r)] / float(n - 1);
-    const StreamlineField field{0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
-                                std::max(settings.lookahead_segments, 1),
-                                std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
-                                (1e-5f * step) * (1e-5f * step)};
-    // The field's slots: lanes past the last guide repeat their group's first lane.
-    StreamlineSlots field_slots;
-    field_slots.used = used;
-    field_slots.group_count = (used + 3) / 4;
-    for (int lane = 0; lane < 4 * field_slots.group_count; ++lane) {
-      const int s = lane < used ? lane : lane & ~3;
-      const size_t g = size_t(slots[s].guide);
-      const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
-      const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
-      StreamlineSlots::Group &group = field_slots.groups[lane / 4];
-      StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
-      const int l = lane % 4;
-      group.segments[l] = frame.segments.data() + first;
-      group.clearances[l] = clearances.data() + guides.offsets[g];
-      group.segment_count[l] = int32_t(last + 1 - first);
-      group.influence[l] = slots[s].influence;
-      group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
-      progress.segment[l] = 0;
-      progress.pace[l] = 0.0f;  // no distance known yet
-    }
-    SkinGuard guard(query, settings.skin_margin, scale, skin_grid);
-    guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
-    // The last point where the field was evaluated, and the lower bound of its signed distance to
-    // the skin that the guides give (StreamlineField).
-    Eigen::Vector3f evaluated_at = root_frame.origin;
-    float evaluated_clearance = -INFINITY;
-    auto evaluate = [&](const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest,
-                        Eigen::Vector3f *r_nearest_tangent = nullptr) {
-      ++evaluations;
-      evaluated_at = p;
-      return field(p, arc, field_slots, fallback, r_nearest, &evaluated_clearance, r_nearest_tangent);
-    };
-    // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
-    // keeps its length, and check again with a query (see SkinGuard::keep_out). A point that the
-    // guides' clearance puts outside by the margin is not looked at.
-    auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
-      Eigen::Vector3f to = from + step * direction;
-      const Eigen::Vector3f aimed = to;
-      const float guided = evaluated_clearance - (to - evaluated_at).norm();
-      if (guided >= settings.skin_margin && guided > guard.lower_bound(to)) guard.know(to, guided);
-      guard.keep_out(to);
-      if (to != aimed) {
-        to = from + step * unit_or(to - from, direction);
-        guard.keep_out(to, true);
+      // Streamline-ratio growth.
+      const float step = binding.lengths[size_t(r)] / float(n - 1);
+      const StreamlineField field{0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
+                                  std::max(settings.lookahead_segments, 1),
+                                  std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
+                                  (1e-5f * step) * (1e-5f * step)};
+      // The field's slots: lanes past the last guide repeat their group's first lane.
+      StreamlineSlots field_slots;
+      field_slots.used = used;
+      field_slots.group_count = (used + 3) / 4;
+      for (int lane = 0; lane < 4 * field_slots.group_count; ++lane) {
+        const int s = lane < used ? lane : lane & ~3;
+        const size_t g = size_t(slots[s].guide);
+        const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
+        const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
+        StreamlineSlots::Group &group = field_slots.groups[lane / 4];
+        StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
+        const int l = lane % 4;
+        group.segments[l] = frame.segments.data() + first;
+        group.clearances[l] = clearances.data() + guides.offsets[g];
+        group.segment_count[l] = int32_t(last + 1 - first);
+        group.influence[l] = slots[s].influence;
+        group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
+        progress.segment[l] = 0;
+        progress.pace[l] = 0.0f;  // no distance known yet
       }
-      return to;
-    };
-    // What the guard proved at a point, or the grid's cell bound (a lookup) when that is larger.
-    auto proven_clearance = [&](const Eigen::Vector3f &p) {
-      return std::max(guard.lower_bound(p), skin_grid->distance_lower_bound(p));
-    };
-    // First step: the guides' first directions carried to this root's frame, so the strand leaves
-    // the skin the way its guides do.
-    Eigen::Vector3f seed = Eigen::Vector3f::Zero();
-    for (int s = 0; s < used; ++s) {
-      const size_t g = size_t(slots[s].guide);
-      seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
-    }
-    Eigen::Vector3f direction = unit_or(seed, normal);
-    // The guard knows only the root, on the skin, from which no bound follows: an earlier strand's
-    // first point may prove this one outside (RecentOutside), else the guard searches. What the guard
-    // then knows is kept for the next strands.
-    ++first_points;
-    const std::pair<Eigen::Vector3f, float> *proof =
-        recent_outside.proving(points[0] + step * direction, settings.skin_margin);
-    if (proof) guard.know(proof->first, proof->second);
-    points[1] = advance(points[0], direction);
-    if (proof && guard.known_point() == proof->first)
-      ++first_points_proven;
-    else
-      recent_outside.add(guard.known_point(), guard.known_distance());
-    if (clearance) {
-      clearance[r * n] = proven_clearance(points[0]);
-      clearance[r * n + 1] = proven_clearance(points[1]);
-    }
-    direction = unit_or(points[1] - points[0], direction);
-    // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
-    // Where the field is smooth along the strand, the midpoint is placed with the field's direction at
-    // the step's start predicted from the directions found at the last two midpoints (linear
-    // extrapolation, F(p_i) ~ 1.5 F(m_i-1/2) - 0.5 F(m_i-3/2)): the midpoint is then off by O(h^3) and
-    // the step keeps the midpoint rule's order with one field evaluation instead of two. Smooth means
-    // that the second difference of those directions, with the new one, stays below kSmoothTurning
-    // (kNearSmoothTurning within half a step of a guide); otherwise (a sharp bend of a guide, a tight
-    // curl, the strand pushed off by the skin) the step is redone in full from the field at its start.
-    // The first step is a full step too.
-    // Near a guide, at distance d below half a step, the blend is that guide's tangent T plus a part
-    // that grows with d: F ~ T + d V, a cone with its tip on the guide, which turns by about
-    // (h / 2) |F - T| / d over half a step. Along guides that run alike, V is small and a step
-    // resolves it as anywhere else. Where it turns by more than kConeTurning (another guide near and
-    // pointing elsewhere, guides meeting at an angle), a full step is split into substeps of about d
-    // (at most max_substeps), and the point lands one segment length along their chord.
-    constexpr int max_substeps = 8;
-    constexpr float kSmoothTurning = 0.01f, kNearSmoothTurning = 0.003f, kConeTurning = 0.02f;
-    auto near_a_guide = [&](float distance) { return distance > 0.0f && distance < 0.5f * step; };
-    float nearest = 0.0f;
-    bool history = false;  // last_middle and previous_middle hold the field at the last two midpoints
-    Eigen::Vector3f last_middle = direction, previous_middle = direction;
-    for (int i = 1; i + 1 < n; ++i) {
-      ++steps;
-      if (history) {
-        const float smooth = near_a_guide(nearest) ? kNearSmoothTurning : kSmoothTurning;
-        const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
-        const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
-        float middle_nearest = 0.0f;
-        StreamlineSlots::Progress saved[StreamlineSlots::max_groups];
-        std::copy(field_slots.progress, field_slots.progress + field_slots.group_count, saved);
-        const Eigen::Vector3f middle_direction =
-            evaluate(middle, (float(i) + 0.5f) * step, start_direction, &middle_nearest);
-        if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= smooth * smooth) {
-          ++predicted_steps;
-          nearest = middle_nearest;
-          points[i + 1] = advance(points[i], middle_direction);
-          direction = unit_or(points[i + 1] - points[i], middle_direction);
-          previous_middle = last_middle;
-          last_middle = middle_direction;
-          if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
-          continue;
+      SkinGuard guard(query, settings.skin_margin, scale, skin_grid);
+      guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
+      // The last point where the field was evaluated, and the lower bound of its signed distance to
+      // the skin that the guides give (StreamlineField).
+      Eigen::Vector3f evaluated_at = root_frame.origin;
+      float evaluated_clearance = -INFINITY;
+      auto evaluate = [&](const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest,
+                          Eigen::Vector3f *r_nearest_tangent = nullptr) {
+        ++evaluations;
+        evaluated_at = p;
+        return field(p, arc, field_slots, fallback, r_nearest, &evaluated_clearance, r_nearest_tangent);
+      };
+      // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
+      // keeps its length, and check again with a query (see SkinGuard::keep_out). A point that the
+      // guides' clearance puts outside by the margin is not looked at.
+      auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
+        Eigen::Vector3f to = from + step * direction;
+        const Eigen::Vector3f aimed = to;
+        const float guided = evaluated_clearance - (to - evaluated_at).norm();
+        if (guided >= settings.skin_margin && guided > guard.lower_bound(to)) guard.know(to, guided);
+        guard.keep_out(to);
+        if (to != aimed) {
+          to = from + step * unit_or(to - from, direction);
+          guard.keep_out(to, true);
         }
-        // The full step searches the guides from where they were.
-        std::copy(saved, saved + field_slots.group_count, field_slots.progress);
+        return to;
+      };
+      // What the guard proved at a point, or the grid's cell bound (a lookup) when that is larger.
+      auto proven_clearance = [&](const Eigen::Vector3f &p) {
+        return std::max(guard.lower_bound(p), skin_grid->distance_lower_bound(p));
+      };
+      // First step: the guides' first directions carried to this root's frame, so the strand leaves
+      // the skin the way its guides do.
+      Eigen::Vector3f seed = Eigen::Vector3f::Zero();
+      for (int s = 0; s < used; ++s) {
+        const size_t g = size_t(slots[s].guide);
+        seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
       }
-      Eigen::Vector3f nearest_tangent = Eigen::Vector3f::Zero();
-      Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest, &nearest_tangent);
-      const int substeps = near_a_guide(nearest) &&
-                                   0.5f * step * (start_direction - nearest_tangent).norm() > kConeTurning * nearest
-                               ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
-                               : 1;
-      if (substeps > 1) ++substepped_steps;
-      const float substep = step / float(substeps);
-      Eigen::Vector3f p = points[i], last_direction = direction;
-      for (int sub = 0; sub < substeps; ++sub) {
-        const float arc = float(i) * step + float(sub) * substep;
-        if (sub > 0) start_direction = evaluate(p, arc, last_direction, nullptr);
-        const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
-        last_direction = evaluate(middle, arc + 0.5f * substep, start_direction, &nearest);
-        p += substep * last_direction;
+      Eigen::Vector3f direction = unit_or(seed, normal);
+      // The guard knows only the root, on the skin, from which no bound follows: an earlier strand's
+      // first point may prove this one outside (RecentOutside), else the guard searches. What the guard
+      // then knows is kept for the next strands.
+      ++first_points;
+      const std::pair<Eigen::Vector3f, float> *proof =
+          recent_outside.proving(points[0] + step * direction, settings.skin_margin);
+      if (proof) guard.know(proof->first, proof->second);
+      points[1] = advance(points[0], direction);
+      if (proof && guard.known_point() == proof->first)
+        ++first_points_proven;
+      else
+        recent_outside.add(guard.known_point(), guard.known_distance());
+      if (clearance) {
+        clearance[r * n] = proven_clearance(points[0]);
+        clearance[r * n + 1] = proven_clearance(points[1]);
       }
-      points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
-      direction = unit_or(points[i + 1] - points[i], last_direction);
-      // One whole step: the field at the midpoint before it extrapolates back from start and middle.
-      history = substeps == 1;
-      previous_middle = unit_or(2.0f * start_direction - last_direction, start_direction);
-      last_middle = last_direction;
-      if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
+      direction = unit_or(points[1] - points[0], direction);
+      // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
+      // Where the field is smooth along the strand, the midpoint is placed with the field's direction at
+      // the step's start predicted from the directions found at the last two midpoints (linear
+      // extrapolation, F(p_i) ~ 1.5 F(m_i-1/2) - 0.5 F(m_i-3/2)): the midpoint is then off by O(h^3) and
+      // the step keeps the midpoint rule's order with one field evaluation instead of two. Smooth means
+      // that the second difference of those directions, with the new one, stays below kSmoothTurning
+      // (kNearSmoothTurning within half a step of a guide); otherwise (a sharp bend of a guide, a tight
+      // curl, the strand pushed off by the skin) the step is redone in full from the field at its start.
+      // The first step is a full step too.
+      // Near a guide, at distance d below half a step, the blend is that guide's tangent T plus a part
+      // that grows with d: F ~ T + d V, a cone with its tip on the guide, which turns by about
+      // (h / 2) |F - T| / d over half a step. Along guides that run alike, V is small and a step
+      // resolves it as anywhere else. Where it turns by more than kConeTurning (another guide near and
+      // pointing elsewhere, guides meeting at an angle), a full step is split into substeps of about d
+      // (at most max_substeps), and the point lands one segment length along their chord.
+      constexpr int max_substeps = 8;
+      constexpr float kSmoothTurning = 0.01f, kNearSmoothTurning = 0.003f, kConeTurning = 0.02f;
+      auto near_a_guide = [&](float distance) { return distance > 0.0f && distance < 0.5f * step; };
+      float nearest = 0.0f;
+      bool history = false;  // last_middle and previous_middle hold the field at the last two midpoints
+      Eigen::Vector3f last_middle = direction, previous_middle = direction;
+      for (int i = 1; i + 1 < n; ++i) {
+        ++steps;
+        if (history) {
+          const float smooth = near_a_guide(nearest) ? kNearSmoothTurning : kSmoothTurning;
+          const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
+          const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
+          float middle_nearest = 0.0f;
+          StreamlineSlots::Progress saved[StreamlineSlots::max_groups];
+          std::copy(field_slots.progress, field_slots.progress + field_slots.group_count, saved);
+          const Eigen::Vector3f middle_direction =
+              evaluate(middle, (float(i) + 0.5f) * step, start_direction, &middle_nearest);
+          if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= smooth * smooth) {
+            ++predicted_steps;
+            nearest = middle_nearest;
+            points[i + 1] = advance(points[i], middle_direction);
+            direction = unit_or(points[i + 1] - points[i], middle_direction);
+            previous_middle = last_middle;
+            last_middle = middle_direction;
+            if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
+            continue;
+          }
+          // The full step searches the guides from where they were.
+          std::copy(saved, saved + field_slots.group_count, field_slots.progress);
+        }
+        Eigen::Vector3f nearest_tangent = Eigen::Vector3f::Zero();
+        Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest, &nearest_tangent);
+        const int substeps = near_a_guide(nearest) &&
+                                     0.5f * step * (start_direction - nearest_tangent).norm() > kConeTurning * nearest
+                                 ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
+                                 : 1;
+        if (substeps > 1) ++substepped_steps;
+        const float substep = step / float(substeps);
+        Eigen::Vector3f p = points[i], last_direction = direction;
+        for (int sub = 0; sub < substeps; ++sub) {
+          const float arc = float(i) * step + float(sub) * substep;
+          if (sub > 0) start_direction = evaluate(p, arc, last_direction, nullptr);
+          const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
+          last_direction = evaluate(middle, arc + 0.5f * substep, start_direction, &nearest);
+          p += substep * last_direction;
+        }
+        points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
+        direction = unit_or(points[i + 1] - points[i], last_direction);
+        // One whole step: the field at the midpoint before it extrapolates back from start and middle.
+        history = substeps == 1;
+        previous_middle = unit_or(2.0f * start_direction - last_direction, start_direction);
+        last_middle = last_direction;
+        if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
+      }
     }
-  }
   }
 
   if (options.r_stats)

@@ -260,31 +260,33 @@ struct Slot {
 /// triangles, so a strand's first point usually lies near an earlier one: its proof needs no search.
 class RecentOutside {
  public:
-  /// The entry whose ball proves p outside by the most, at least `margin`; null when none does.
-  const std::pair<Eigen::Vector3f, float> *proving(const Eigen::Vector3f &p, float margin) const {
-    const std::pair<Eigen::Vector3f, float> *best = nullptr;
+  /// A point outside the skin, and its signed distance or a lower bound of it: no skin lies closer.
+  struct Ball {
+    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+    float radius = -INFINITY;  // an unused entry proves nothing
+  };
+  /// The ball that proves p outside by the most, at least `margin`; null when none does.
+  const Ball *proving(const Eigen::Vector3f &p, float margin) const {
+    const Ball *best = nullptr;
     float best_bound = margin;
-    for (const auto &entry : entries_) {
-      const float bound = entry.second - (p - entry.first).norm();
+    for (const Ball &ball : balls_) {
+      const float bound = ball.radius - (p - ball.centre).norm();
       if (bound >= best_bound) {
         best_bound = bound;
-        best = &entry;
+        best = &ball;
       }
     }
     return best;
   }
-  /// Keeps (p, distance) in place of the oldest entry.
-  void add(const Eigen::Vector3f &p, float distance) {
-    entries_[next_] = {p, distance};
+  /// Keeps the ball in place of the oldest one.
+  void add(const Eigen::Vector3f &centre, float radius) {
+    balls_[next_] = {centre, radius};
     next_ = (next_ + 1) % size;
   }
 
  private:
   static constexpr int size = 4;  // as many as the roots of a triangle or two: more found little more
-  std::pair<Eigen::Vector3f, float> entries_[size] = {{Eigen::Vector3f::Zero(), -INFINITY},
-                                                      {Eigen::Vector3f::Zero(), -INFINITY},
-                                                      {Eigen::Vector3f::Zero(), -INFINITY},
-                                                      {Eigen::Vector3f::Zero(), -INFINITY}};
+  Ball balls_[size];
   int next_ = 0;
 };
 
@@ -700,11 +702,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       // first point may prove this one outside (RecentOutside), else the guard searches. What the guard
       // then knows is kept for the next strands.
       ++first_points;
-      const std::pair<Eigen::Vector3f, float> *proof =
-          recent_outside.proving(points[0] + step * direction, settings.skin_margin);
-      if (proof) guard.know(proof->first, proof->second);
+      const RecentOutside::Ball *proof = recent_outside.proving(points[0] + step * direction, settings.skin_margin);
+      if (proof) guard.know(proof->centre, proof->radius);
       points[1] = advance(points[0], direction);
-      if (proof && guard.known_point() == proof->first)
+      if (proof && guard.known_point() == proof->centre)
         ++first_points_proven;
       else
         recent_outside.add(guard.known_point(), guard.known_distance());

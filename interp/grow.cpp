@@ -678,7 +678,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         Eigen::Vector3f to = from + step * direction;
         const Eigen::Vector3f aimed = to;
         const float guided = evaluated_clearance - (to - evaluated_at).norm();
-        if (guided >= settings.skin_margin && guided > guard.lower_bound(to)) guard.know(to, guided);
+        if (guided >= settings.skin_margin && guided > guard.lower_bound(to)) {
+          guard.know(to, guided);
+          if (!skin_grid->near_open_edge(to)) return to;  // keep_out would find it outside by the margin
+        }
         guard.keep_out(to);
         if (to != aimed) {
           to = from + step * unit_or(to - from, direction);
@@ -697,14 +700,15 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         const size_t g = size_t(slots[s].guide);
         seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
       }
-      Eigen::Vector3f direction = unit_or(seed, normal);
+      const Eigen::Vector3f first_direction = unit_or(seed, normal);
       // The guard knows only the root, on the skin, from which no bound follows: an earlier strand's
       // first point may prove this one outside (RecentOutside), else the guard searches. What the guard
       // then knows is kept for the next strands.
       ++first_points;
-      const RecentOutside::Ball *proof = recent_outside.proving(points[0] + step * direction, settings.skin_margin);
+      const RecentOutside::Ball *proof =
+          recent_outside.proving(points[0] + step * first_direction, settings.skin_margin);
       if (proof) guard.know(proof->centre, proof->radius);
-      points[1] = advance(points[0], direction);
+      points[1] = advance(points[0], first_direction);
       if (proof && guard.known_point() == proof->centre)
         ++first_points_proven;
       else
@@ -713,7 +717,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         clearance[r * n] = proven_clearance(points[0]);
         clearance[r * n + 1] = proven_clearance(points[1]);
       }
-      direction = unit_or(points[1] - points[0], direction);
+      // The direction of the strand's last segment is unit_or(points[i] - points[i - 1], last_aim), with
+      // last_aim the field's direction that step took: the fallback of a full step's first evaluation.
+      // Only full steps need it, so a predicted step keeps its aim and leaves the square root out.
+      Eigen::Vector3f last_aim = first_direction;
       // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
       // Where the field is smooth along the strand, the midpoint is placed with the field's direction at
       // the step's start predicted from the directions found at the last two midpoints (linear
@@ -734,7 +741,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       auto near_a_guide = [&](float distance) { return distance > 0.0f && distance < 0.5f * step; };
       float nearest = 0.0f;
       bool history = false;  // last_middle and previous_middle hold the field at the last two midpoints
-      Eigen::Vector3f last_middle = direction, previous_middle = direction;
+      Eigen::Vector3f last_middle = first_direction, previous_middle = first_direction;
       for (int i = 1; i + 1 < n; ++i) {
         ++steps;
         if (history) {
@@ -750,7 +757,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             ++predicted_steps;
             nearest = middle_nearest;
             points[i + 1] = advance(points[i], middle_direction);
-            direction = unit_or(points[i + 1] - points[i], middle_direction);
+            last_aim = middle_direction;
             previous_middle = last_middle;
             last_middle = middle_direction;
             if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
@@ -759,6 +766,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           // The full step searches the guides from where they were.
           std::copy(saved, saved + field_slots.group_count, field_slots.progress);
         }
+        const Eigen::Vector3f direction = unit_or(points[i] - points[i - 1], last_aim);
         Eigen::Vector3f nearest_tangent = Eigen::Vector3f::Zero();
         Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest, &nearest_tangent);
         const int substeps = near_a_guide(nearest) &&
@@ -776,7 +784,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           p += substep * last_direction;
         }
         points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
-        direction = unit_or(points[i + 1] - points[i], last_direction);
+        last_aim = last_direction;
         // One whole step: the field at the midpoint before it extrapolates back from start and middle.
         history = substeps == 1;
         previous_middle = unit_or(2.0f * start_direction - last_direction, start_direction);

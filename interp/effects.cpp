@@ -50,8 +50,9 @@ Eigen::Vector3f sample_at(std::span<const Eigen::Vector3f> pts, float t, Eigen::
 /// tip it continues straight along the last segment. `r_segment` is where the search starts, and is
 /// left at the segment found: a strand sampled at growing `s` walks each segment once. It must not
 /// be past the segment holding `s` (0 always works).
-Eigen::Vector3f point_at_length(std::span<const Eigen::Vector3f> pts, std::span<const float> cum, float s,
-                                int64_t &r_segment) {
+[[gnu::always_inline]] inline Eigen::Vector3f point_at_length(std::span<const Eigen::Vector3f> pts,
+                                                               std::span<const float> cum, float s,
+                                                               int64_t &r_segment) {
   const int64_t n = int64_t(pts.size());
   if (s >= cum[n - 1]) {
     const Eigen::Vector3f last = pts[n - 1] - pts[n - 2];

@@ -678,10 +678,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         Eigen::Vector3f to = from + step * direction;
         const Eigen::Vector3f aimed = to;
         const float guided = evaluated_clearance - (to - evaluated_at).norm();
-        if (guided >= settings.skin_margin && guided > guard.lower_bound(to)) {
-          guard.know(to, guided);
-          if (!skin_grid->near_open_edge(to)) return to;  // keep_out would find it outside by the margin
-        }
+        if (guided >= settings.skin_margin && guided > guard.lower_bound(to) && guard.know_outside(to, guided))
+          return to;
         guard.keep_out(to);
         if (to != aimed) {
           to = from + step * unit_or(to - from, direction);

@@ -43,6 +43,13 @@ class SkinGuard {
     known_point_ = p;
     known_distance_ = lower_bound;
   }
+  /// know(p, lower_bound) for a bound of at least the margin; true when p then needs no check
+  /// (keep_out would leave it as it is without a query), false near an open edge of the mesh, where
+  /// keep_out always queries.
+  bool know_outside(const Eigen::Vector3f &p, float lower_bound) {
+    know(p, lower_bound);
+    return !(grid_ && grid_->near_open_edge(p));
+  }
   /// A lower bound of the signed distance at `p` from what the guard knows (1-Lipschitz bound).
   float lower_bound(const Eigen::Vector3f &p) const { return known_distance_ - (p - known_point_).norm(); }
   /// The point the guard's bounds start from, and its signed distance or a lower bound of it.

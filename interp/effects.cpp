@@ -683,7 +683,7 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, int64_t
   // Past 1000 turns along the strand the helix angle would leave the range where sin_cos4 is accurate
   // (|x| < 1e4) and, far beyond, overflow its quadrant integer: such a strand takes each point's
   // turn count modulo one (the same helix). Every other strand keeps the direct product's bits.
-  Float4 phase0{}, radius{}, tip_length{};
+  Float4 phase0{}, radius{};
   int wrap_turns = 0;
   Float4 u[3] = {Float4{} + 1.0f, Float4{}, Float4{}};
   for (int64_t s = 0; s < count; ++s) {
@@ -691,8 +691,8 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, int64_t
     if (point_count[s] == 0) continue;
     phase0[s] = kTwoPi * hash_to_unit(hash_combine(hash_combine(d.seed, kSaltPhase), ids[i]));
     radius[s] = d.curl_radius * e.strength[i];
-    tip_length[s] = cum[point_count[s] - 1][s];
-    if (d.turns_per_unit * tip_length[s] > 1000.0f) wrap_turns |= 1 << s;
+    const float tip_length = cum[point_count[s] - 1][s];
+    if (d.turns_per_unit * tip_length > 1000.0f) wrap_turns |= 1 << s;
     const Eigen::Vector3f t0(tangents[0][0][s], tangents[0][1][s], tangents[0][2][s]);
     const Eigen::Matrix3f &basis = posed_frames[s].basis;
     Eigen::Vector3f u0 = basis.col(0) - t0 * t0.dot(basis.col(0));

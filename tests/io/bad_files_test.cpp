@@ -84,8 +84,8 @@ TEST_CASE("a broken OBJ strand file is rejected with file:line:column and what w
 
 TEST_CASE("a broken OBJ mesh is rejected with file:line:column and what was expected", "[io]") {
   check_bad_files({
-      {"obj_face_bad_index.obj", Reader::Mesh, {":4:7", "f: vertex index 7 out of range, expected 1..3"}},
-      {"obj_face_bad_uv_index.obj", Reader::Mesh, {":5:7", "f: uv index 2 out of range, expected 1..1"}},
+      {"obj_face_bad_index.obj", Reader::Mesh, {":4:7", "f: vertex index 7 out of range, expected 1..3", "(vertices read so far: 3)"}},
+      {"obj_face_bad_uv_index.obj", Reader::Mesh, {":5:7", "f: uv index 2 out of range, expected 1..1", "(uvs read so far: 1)"}},
       {"obj_mesh_inf.obj", Reader::Mesh, {":2:5", "v: y: expected a finite number, got \"inf\""}},
       {"obj_face_two_corners.obj", Reader::Mesh, {":4", "f: expected at least 3 corners, got 2"}},
       {"obj_mesh_all_degenerate.obj", Reader::Mesh, {"every triangle is degenerate"}},

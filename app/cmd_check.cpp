@@ -42,6 +42,8 @@ int run_check(const CheckArgs &args) {
   if (!args.groom.empty()) groom = io::read_groom_file(args.groom);
   const std::string mesh_path = !args.mesh.empty() ? args.mesh : groom ? groom->emitter_path : std::string();
   if (mesh_path.empty()) throw InputError("--mesh: expected the emitter mesh (.obj), or --groom to take its emitter");
+  if (!args.mesh.empty() && extension_of(args.mesh) != ".obj")
+    throw InputError("--mesh: expected an .obj mesh, got \"" + args.mesh + "\"");
   set_thread_count(args.threads);
 
   const StrandSet strands = io::read_strands(args.strands);

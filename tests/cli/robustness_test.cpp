@@ -209,6 +209,16 @@ TEST_CASE("check refuses a guide file without strands instead of skipping the de
   CHECK(run.err.find("--guides: " + empty + " holds no strands") != std::string::npos);
 }
 
+TEST_CASE("check refuses a mesh that is not an OBJ instead of reading it as one", "[cli]") {
+  ScratchDir scratch("check_mesh_kind");
+  const std::string guides = quoted(sintel_dir() + "/sintel_guides.hair");
+  const RunResult run = run_plume_bounded("check " + guides + " --mesh " + guides, scratch);
+  INFO(run.out << run.err);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("--mesh: expected an .obj mesh, got \"" + sintel_dir() + "/sintel_guides.hair\"") !=
+        std::string::npos);
+}
+
 TEST_CASE("input files that are devices or pipes are refused instead of read without end", "[cli]") {
   ScratchDir scratch("device_inputs");
   const std::string guides = quoted(sintel_dir() + "/sintel_guides.hair");

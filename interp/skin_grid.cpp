@@ -278,9 +278,14 @@ float SkinGrid::block_lower_bound(const Eigen::Vector3f &p) const {
     gap_sq[a][1] = inside * inside;
     gap_sq[a][2] = above * above;
     // Cells outside the grid hold no triangle; inside it, the block's faces bound the rest.
-    if (lo[a] > 0) bound_sq = std::min(bound_sq, std::pow(std::max(local - float(lo[a]), 0.0f) * cell_size_, 2.0f));
-    if (hi[a] < dims_[a] - 1)
-      bound_sq = std::min(bound_sq, std::pow(std::max(float(hi[a] + 1) - local, 0.0f) * cell_size_, 2.0f));
+    if (lo[a] > 0) {
+      const float gap = std::max(local - float(lo[a]), 0.0f) * cell_size_;
+      bound_sq = std::min(bound_sq, gap * gap);
+    }
+    if (hi[a] < dims_[a] - 1) {
+      const float gap = std::max(float(hi[a] + 1) - local, 0.0f) * cell_size_;
+      bound_sq = std::min(bound_sq, gap * gap);
+    }
   }
   const size_t own_cell = cell_index(own.x(), own.y(), own.z());
   // When p's own cell holds a triangle, its box is the nearest of all boxes; when no cell within

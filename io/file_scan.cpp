@@ -96,6 +96,17 @@ FileLoc LineCursor::loc(std::string_view at) const {
 
 void LineCursor::fail(std::string_view at, const std::string &message) const { throw InputError(loc(at), message); }
 
+int LineCursor::to_obj_index(std::string_view token, std::string_view number, size_t count, std::string_view what,
+                             std::string_view plural) const {
+  const long long index = to_int(number, std::string(what) + " index");
+  const long long resolved = index < 0 ? (long long)count + index : index - 1;
+  if (index == 0 || resolved < 0 || resolved >= (long long)count)
+    fail(token, std::string(what) + " index " + std::to_string(index) + " out of range, expected 1.." +
+                    std::to_string(count) + " or -" + std::to_string(count) + "..-1 (" + std::string(plural) +
+                    " read so far: " + std::to_string(count) + ")");
+  return int(resolved);
+}
+
 std::string_view LineCursor::take_token(std::string_view &rest) {
   size_t begin = 0;
   while (begin < rest.size() && (rest[begin] == ' ' || rest[begin] == '\t')) ++begin;

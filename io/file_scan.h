@@ -63,6 +63,11 @@ class LineCursor {
   Eigen::Vector3f take_vec3(std::string_view &rest, std::string_view keyword) const;
   /// Parses an integer.
   long long to_int(std::string_view token, std::string_view what) const;
+  /// Parses an OBJ index from `number` (part of `token`): 1-based, or negative counting back from the
+  /// last of the `count` elements read so far. Returns it 0-based; fails at `token` when it is out of
+  /// range. `what` names the index's kind ("f: vertex"), `plural` the elements ("vertices").
+  int to_obj_index(std::string_view token, std::string_view number, size_t count, std::string_view what,
+                   std::string_view plural) const;
 
  private:
   std::string_view text_;

@@ -29,18 +29,6 @@ struct GroupTable {
   }
 };
 
-/// Resolves one OBJ index (1-based, or negative counting back from the last element read).
-/// `what` names one element ("vertex"), `plural` several ("vertices").
-int resolve_index(const LineCursor &cursor, std::string_view token, long long index, size_t count,
-                  std::string_view what, std::string_view plural) {
-  const long long resolved = index < 0 ? (long long)count + index : index - 1;
-  if (index == 0 || resolved < 0 || resolved >= (long long)count)
-    cursor.fail(token, "f: " + std::string(what) + " index " + std::to_string(index) + " out of range, expected 1.." +
-                           std::to_string(count) + " or -" + std::to_string(count) + "..-1 (" + std::string(plural) +
-                           " read so far: " + std::to_string(count) + ")");
-  return int(resolved);
-}
-
 Mesh parse_obj(const std::string &path, const std::string &text) {
   LineCursor cursor(text, path);
   Mesh mesh;
@@ -80,13 +68,13 @@ Mesh parse_obj(const std::string &path, const std::string &text) {
           vt_part = token.substr(slash1 + 1, slash2 == std::string_view::npos ? std::string_view::npos : slash2 - slash1 - 1);
           if (slash2 != std::string_view::npos) vn_part = token.substr(slash2 + 1);
         }
-        const int v = resolve_index(cursor, token, cursor.to_int(v_part, "f: vertex index"), mesh.positions.size(), "vertex", "vertices");
+        const int v = cursor.to_obj_index(token, v_part, mesh.positions.size(), "f: vertex", "vertices");
         int vt = -1;
         if (!vt_part.empty())
-          vt = resolve_index(cursor, token, cursor.to_int(vt_part, "f: uv index"), mesh.uvs.size(), "uv", "uvs");
+          vt = cursor.to_obj_index(token, vt_part, mesh.uvs.size(), "f: uv", "uvs");
         else
           face_has_uvs = false;
-        if (!vn_part.empty()) resolve_index(cursor, token, cursor.to_int(vn_part, "f: normal index"), normal_count, "normal", "normals");
+        if (!vn_part.empty()) cursor.to_obj_index(token, vn_part, normal_count, "f: normal", "normals");
         corners.push_back({v, vt});
       }
       if (corners.size() < 3)

@@ -22,14 +22,7 @@ StrandSet read_obj_strands_text(const std::string &path, const std::string &text
     } else if (keyword == "l") {
       const size_t line_start = chain.size();
       for (std::string_view token = LineCursor::take_token(rest); !token.empty(); token = LineCursor::take_token(rest)) {
-        const long long index = cursor.to_int(token.substr(0, token.find('/')), "l: vertex index");
-        const long long count = (long long)vertices.size();
-        const long long resolved = index < 0 ? count + index : index - 1;
-        if (index == 0 || resolved < 0 || resolved >= count)
-          cursor.fail(token, "l: vertex index " + std::to_string(index) + " out of range, expected 1.." +
-                                 std::to_string(count) + " or -" + std::to_string(count) + "..-1 (" +
-                                 std::to_string(count) + " vertices read so far)");
-        chain.push_back(int(resolved));
+        chain.push_back(cursor.to_obj_index(token, token.substr(0, token.find('/')), vertices.size(), "l: vertex", "vertices"));
       }
       const size_t index_num = chain.size() - line_start;
       if (index_num < 2) cursor.fail("l: expected at least 2 vertex indices, got " + std::to_string(index_num));

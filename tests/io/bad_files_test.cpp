@@ -76,7 +76,7 @@ TEST_CASE("a broken .ply file is rejected with its line or byte offset and what 
 
 TEST_CASE("a broken OBJ strand file is rejected with file:line:column and what was expected", "[io]") {
   check_bad_files({
-      {"obj_lines_bad_index.obj", Reader::Strands, {":5:5", "l: vertex index 9 out of range, expected 1..3"}},
+      {"obj_lines_bad_index.obj", Reader::Strands, {":5:5", "l: vertex index 9 out of range, expected 1..3", "(vertices read so far: 3)"}},
       {"obj_lines_nan.obj", Reader::Strands, {":2:5", "v: y: expected a finite number, got \"NaN\""}},
       {"obj_lines_single.obj", Reader::Strands, {":3", "l: expected at least 2 vertex indices, got 1"}},
   });

@@ -299,158 +299,188 @@ void load_quad(const GuideSegment *const segments[4], Int4 index, int quad, Floa
   transpose4(rows, r);
 }
 
-/// The influencing guides of one strand as the streamline field walks them, four to a group (one
-/// guide per lane). Lanes past the last guide repeat the group's first lane and are left out of the
-/// blend.
-struct StreamlineSlots {
-  static constexpr int max_groups = (max_guides_per_root + 3) / 4;
-  /// What the field keeps of one evaluation for the next, per lane.
-  struct Progress {
-    Int4 segment;  // segment of the guide holding the last closest point
-    Float4 pace;   // the pace term's lambda for the next evaluation (see StreamlineField)
-  };
-  struct Group {
-    const GuideSegment *segments[4];  // the guide's first segment
-    const float *clearances[4];       // the guide's first point's clearance (guide_clearances)
-    Int4 segment_count;  // segment indices along one guide fit 32 bits (the guide's points would not fit memory)
-    Float4 influence;    // scale of the 1/d law
-    Float4 arc_scale;  // guide length / strand length
-  };
-  int used = 0;  // guides
-  int group_count = 0;
-  Group groups[max_groups];
-  Progress progress[max_groups];
+/// Guides as the streamline field walks them, four at a time, one per SIMD lane: either four
+/// influencing guides of one strand (StreamlineField) or guide slot s of four strands (QuadField).
+struct GuideLanes {
+  const GuideSegment *segments[4];  // the guide's first segment
+  const float *clearances[4];       // the guide's first point's clearance (guide_clearances)
+  Int4 segment_count;  // segment indices along one guide fit 32 bits (the guide's points would not fit memory)
+  Float4 influence;    // scale of the 1/d law
+  Float4 arc_scale;    // guide length / strand length
+};
+/// What the field keeps of one evaluation for the next, per lane of a GuideLanes.
+struct GuideProgress {
+  Int4 segment;  // segment of the guide holding the last closest point
+  Float4 pace;   // the pace term's lambda for the next evaluation (see match_guides)
 };
 
-/// Streamline direction field at `p`: on each guide, the closest point within a window moving
-/// forward from the slot's last segment; the guides' tangents there are blended with weights
-/// influence_i / d_i (a guide at distance ~0 takes all the weight). 1/d keeps the ratio of distances:
-/// between two straight guides meeting at an angle, sin(a - phi) e_0 + sin(phi) e_a is parallel to
-/// e_phi (sine rule), so the blended direction points along the ray of constant ratio. Returns the unit
-/// direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
+/// The influencing guides of one strand, four to a group (one guide per lane). Lanes past the last
+/// guide repeat the group's first lane and are left out of the blend.
+struct StreamlineSlots {
+  static constexpr int max_groups = (max_guides_per_root + 3) / 4;
+  int used = 0;  // guides
+  int group_count = 0;
+  GuideLanes groups[max_groups];
+  GuideProgress progress[max_groups];
+};
+
+/// How far a strand's guide search looks, per lane; it scales with the strand's step.
+struct SearchWindow {
+  Float4 half_arc;  // half width of the window in guide arc length (lookahead * step / 2)
+  Int4 lookahead;   // and at least this many segments
+  Float4 tie_sq;    // a later segment within this of the best wins (vertex ties go forward)
+};
+
+/// The point match_guides chose on each lane's guide.
+struct GuideMatch {
+  Float4 distance_sq;
+  Float4 tangent[3];  // the guide's unit tangent there
+  Float4 clearance;   // lower bound of the probe's signed distance to the skin (see match_guides)
+  Float4 weight;      // influence / distance
+};
+
+/// On each lane's guide, the closest point to the lane's probe (px, py, pz), at the strand's arc
+/// length `arc`, within a window moving forward from the lane's last segment (`progress`, updated);
+/// the guide's tangent there and the weight influence / d of the streamline field.
 ///
-/// Four guides are searched at once, one per SIMD lane (the search is most of growth's time). The
-/// lanes walk their guides in step, a lane that has stopped masked out of the rest, so each picks the
-/// segment a search of its guide alone would: the same window start, pace term, ties and window end.
-/// Every lane does that search's float operations in the same order (Eigen's dot products and norms
-/// add x + (y + z); no fused multiply-add), and the blend adds the guides up one by one in slot
-/// order, so the result is the same to the bit as a guide-by-guide search.
+/// The lanes walk their guides in step, a lane that has stopped masked out of the rest, so each picks
+/// the segment a search of its guide alone would: the same window start, pace term, ties and window
+/// end. Every lane does that search's float operations in the same order (Eigen's dot products and
+/// norms add x + (y + z); no fused multiply-add), so a lane's result does not depend on the others.
+///
+/// `clearance`: a lower bound of the probe's signed distance to the skin from the guides' own. The
+/// signed distance is 1-Lipschitz, so at the chosen point q, t along a segment of length L whose
+/// ends are c0 and c1 from the skin, sd(q) >= max(c0 - t, c1 - (L - t)), and sd(p) >= sd(q) - |p - q|
+/// (the ball of that radius round q holds no skin, so p is on q's side). Free, as the search has
+/// found q: growth's skin guard then needs no query for most points away from the root.
+[[gnu::always_inline]] inline GuideMatch match_guides(Float4 px, Float4 py, Float4 pz, Float4 arc,
+                                                      const SearchWindow &window, const GuideLanes &guides,
+                                                      GuideProgress &progress) {
+  // The window: from the last closest point (never backwards), over the guide arc around where a
+  // strand keeping pace with the guide would be (arc * guide length / strand length).
+  const Float4 expected = arc * guides.arc_scale;
+  const Float4 window_low = expected - window.half_arc, window_high = expected + window.half_arc;
+  Int4 start = progress.segment;
+  for (;;) {
+    const Int4 has_next = start + 1 < guides.segment_count;
+    const Int4 next = start - has_next;
+    const Float4 next_arc = {guides.segments[0][next[0]].arc, guides.segments[1][next[1]].arc,
+                             guides.segments[2][next[2]].arc, guides.segments[3][next[3]].arc};
+    const Int4 advance = has_next & (next_arc <= window_low);
+    if (!any(advance)) break;
+    start -= advance;
+  }
+  // Farther from a curl than about its radius (1 / curvature), the squared distance along the
+  // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
+  // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
+  // and the blended direction wanders between coils. The pace term lambda (s - expected)^2, with
+  // lambda = max(0, 2 kappa |p - q| - 1/2) and kappa the sustained curvature, keeps the cost
+  // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
+  // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
+  // of distances needs. |p - q| is the previous evaluation's, half a step behind.
+  const Float4 lambda = progress.pace;
+  const Float4 inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float4{} + 1.0f;
+  // Segment j's cost in each lane: its point of least cost (at r_t along it), the squared
+  // distance there, the segment's arc, and whether that point lies before the segment's end.
+  auto segment_cost = [&](Int4 j, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc, Int4 &r_inner) {
+    Float4 start_arc[4], direction_length[4];
+    load_quad(guides.segments, j, 0, start_arc);
+    load_quad(guides.segments, j, 1, direction_length);
+    const Float4 &segment_arc = start_arc[3], &length = direction_length[3];
+    r_arc = segment_arc;
+    const Float4 ox = px - start_arc[0], oy = py - start_arc[1], oz = pz - start_arc[2];
+    const Float4 dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
+    const Float4 t = (ox * dx + (oy * dy + oz * dz) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda;
+    r_t = t < 0.0f ? Float4{} : (length < t ? length : t);  // std::clamp(t, 0, length)
+    r_inner = t < length;
+    const Float4 ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
+    r_distance_sq = ex * ex + (ey * ey + ez * ez);
+    const Float4 lag = segment_arc + r_t - expected;
+    return r_distance_sq + lambda * lag * lag;
+  };
+  // The cost is convex along the guide (the pace term above), so its minimum over each segment
+  // falls then rises along the window: walk forward from the window's first segment while the
+  // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment), or
+  // until the window ends (past both `lookahead` segments and the window's arc). A segment whose
+  // least cost lies before its end holds the minimum (the cost rises past it): the walk stops
+  // there without looking at the next. Usually one segment is looked at instead of the whole
+  // window; the lanes walk together while any of them still moves on.
+  const Int4 last = guides.segment_count - 1;
+  Int4 best = start, candidate = start;
+  Float4 best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
+  Int4 inner;
+  Float4 best_cost = segment_cost(start, best_t, best_sq, first_arc, inner);
+  Int4 walking = (best < last) & ~inner;
+  while (any(walking)) {
+    // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
+    // others; counted apart from `best` so that the next loads need not wait for the costs.
+    candidate = candidate < last ? candidate + 1 : candidate;
+    Float4 t, distance_sq, segment_arc;
+    const Float4 cost = segment_cost(candidate, t, distance_sq, segment_arc, inner);
+    const Int4 in_window = (candidate - start < window.lookahead) | ~(segment_arc > window_high);
+    const Int4 take = walking & in_window & ~(cost > best_cost + window.tie_sq);
+    best_cost = take ? cost : best_cost;
+    best_sq = take ? distance_sq : best_sq;
+    best_t = take ? t : best_t;
+    best -= take;
+    walking = take & (best < last) & ~inner;
+  }
+  progress.segment = best;
+  const Float4 best_distance = sqrt4(best_sq);
+  GuideMatch match;
+  match.distance_sq = best_sq;
+  // The guides' tangents at the chosen points: linear along the segment between its two ends'.
+  Float4 direction_length[4], start_tangent[4], end_tangent[4];
+  load_quad(guides.segments, best, 1, direction_length);
+  load_quad(guides.segments, best, 2, start_tangent);
+  load_quad(guides.segments, best, 3, end_tangent);
+  const Float4 u = best_t * start_tangent[3];
+  Float4 tangent[3];
+  for (int c = 0; c < 3; ++c) tangent[c] = (1.0f - u) * start_tangent[c] + u * end_tangent[c];
+  const Float4 norm = sqrt4(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
+  const Float4 inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
+  for (int c = 0; c < 3; ++c) match.tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
+  const Float4 start_clearance = {guides.clearances[0][best[0]], guides.clearances[1][best[1]],
+                                  guides.clearances[2][best[2]], guides.clearances[3][best[3]]};
+  const Float4 end_clearance = {guides.clearances[0][best[0] + 1], guides.clearances[1][best[1] + 1],
+                                guides.clearances[2][best[2] + 1], guides.clearances[3][best[3] + 1]};
+  const Float4 from_start = start_clearance - best_t, from_end = end_clearance - (direction_length[3] - best_t);
+  match.clearance = (from_start < from_end ? from_end : from_start) - best_distance;
+  match.weight = guides.influence / best_distance;
+  const Float4 pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
+  progress.pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
+  return match;
+}
+
+/// Streamline direction field at `p`: on each guide, the closest point within a window moving
+/// forward from the slot's last segment (match_guides); the guides' tangents there are blended with
+/// weights influence_i / d_i (a guide at distance ~0 takes all the weight). 1/d keeps the ratio of
+/// distances: between two straight guides meeting at an angle, sin(a - phi) e_0 + sin(phi) e_a is
+/// parallel to e_phi (sine rule), so the blended direction points along the ray of constant ratio.
+/// Returns the unit direction, or `fallback` where the blend vanishes (guides pointing opposite ways).
+///
+/// The strand's guides are searched four at once, one per SIMD lane, and the blend adds them up one
+/// by one in slot order, so the result is the same to the bit as a guide-by-guide search.
 struct StreamlineField {
-  float window_arc;   // half width of the window in guide arc length (lookahead * step / 2)
-  int lookahead;      // and at least this many segments
+  SearchWindow window;
   float hit_distance_sq;
-  float tie_sq;       // a later segment within this of the best wins (vertex ties go forward)
 
   /// `r_nearest`: the distance to the nearest influencing guide (0 on one); `r_nearest_tangent`: that
-  /// guide's tangent at its chosen point.
-  /// `r_clearance`: a lower bound of p's signed distance to the skin from the guides' own. The
-  /// signed distance is 1-Lipschitz, so at the chosen point q, t along a segment of length L whose
-  /// ends are c0 and c1 from the skin, sd(q) >= max(c0 - t, c1 - (L - t)), and sd(p) >= sd(q) - |p - q|
-  /// (the ball of that radius round q holds no skin, so p is on q's side). Free, as the search has
-  /// found q: growth's skin guard then needs no query for most points away from the root.
+  /// guide's tangent at its chosen point. `r_clearance`: a lower bound of p's signed distance to the
+  /// skin from the guides' own (match_guides).
   Eigen::Vector3f operator()(const Eigen::Vector3f &p, float arc, StreamlineSlots &slots,
                              const Eigen::Vector3f &fallback, float *r_nearest = nullptr,
                              float *r_clearance = nullptr, Eigen::Vector3f *r_nearest_tangent = nullptr) const {
     Eigen::Vector3f blend = Eigen::Vector3f::Zero(), hit_blend = Eigen::Vector3f::Zero();
     float weight_sum = 0.0f, hit_sum = 0.0f, nearest_sq = INFINITY;
     Float4 clearance = Float4{} - INFINITY;
-    const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z();
+    const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z(), arcs = Float4{} + arc;
     for (int group_index = 0; group_index < slots.group_count; ++group_index) {
-      const StreamlineSlots::Group &group = slots.groups[group_index];
-      StreamlineSlots::Progress &progress = slots.progress[group_index];
-      // The window: from the last closest point (never backwards), over the guide arc around where a
-      // strand keeping pace with the guide would be (arc * guide length / strand length).
-      const Float4 expected = arc * group.arc_scale;
-      const Float4 window_low = expected - window_arc, window_high = expected + window_arc;
-      Int4 start = progress.segment;
-      for (;;) {
-        const Int4 has_next = start + 1 < group.segment_count;
-        const Int4 next = start - has_next;
-        const Float4 next_arc = {group.segments[0][next[0]].arc, group.segments[1][next[1]].arc,
-                                 group.segments[2][next[2]].arc, group.segments[3][next[3]].arc};
-        const Int4 advance = has_next & (next_arc <= window_low);
-        if (!any(advance)) break;
-        start -= advance;
-      }
-      // Farther from a curl than about its radius (1 / curvature), the squared distance along the
-      // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
-      // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
-      // and the blended direction wanders between coils. The pace term lambda (s - expected)^2, with
-      // lambda = max(0, 2 kappa |p - q| - 1/2) and kappa the sustained curvature, keeps the cost
-      // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
-      // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
-      // of distances needs. |p - q| is the previous evaluation's, half a step behind.
-      const Float4 lambda = progress.pace;
-      const Float4 inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float4{} + 1.0f;
-      // Segment j's cost in each lane: its point of least cost (at r_t along it), the squared
-      // distance there, the segment's arc, and whether that point lies before the segment's end.
-      auto segment_cost = [&](Int4 j, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc, Int4 &r_inner) {
-        Float4 start_arc[4], direction_length[4];
-        load_quad(group.segments, j, 0, start_arc);
-        load_quad(group.segments, j, 1, direction_length);
-        const Float4 &segment_arc = start_arc[3], &length = direction_length[3];
-        r_arc = segment_arc;
-        const Float4 ox = px - start_arc[0], oy = py - start_arc[1], oz = pz - start_arc[2];
-        const Float4 dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
-        const Float4 t = (ox * dx + (oy * dy + oz * dz) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda;
-        r_t = t < 0.0f ? Float4{} : (length < t ? length : t);  // std::clamp(t, 0, length)
-        r_inner = t < length;
-        const Float4 ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
-        r_distance_sq = ex * ex + (ey * ey + ez * ez);
-        const Float4 lag = segment_arc + r_t - expected;
-        return r_distance_sq + lambda * lag * lag;
-      };
-      // The cost is convex along the guide (the pace term above), so its minimum over each segment
-      // falls then rises along the window: walk forward from the window's first segment while the
-      // next segment is no worse (ties go forward: a vertex belongs to its outgoing segment), or
-      // until the window ends (past both `lookahead` segments and the window's arc). A segment whose
-      // least cost lies before its end holds the minimum (the cost rises past it): the walk stops
-      // there without looking at the next. Usually one segment is looked at instead of the whole
-      // window; the lanes walk together while any of them still moves on.
-      const Int4 last = group.segment_count - 1;
-      Int4 best = start, candidate = start;
-      Float4 best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
-      Int4 inner;
-      Float4 best_cost = segment_cost(start, best_t, best_sq, first_arc, inner);
-      Int4 walking = (best < last) & ~inner;
-      while (any(walking)) {
-        // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
-        // others; counted apart from `best` so that the next loads need not wait for the costs.
-        candidate = candidate < last ? candidate + 1 : candidate;
-        Float4 t, distance_sq, segment_arc;
-        const Float4 cost = segment_cost(candidate, t, distance_sq, segment_arc, inner);
-        const Int4 in_window = (candidate - start < lookahead) | ~(segment_arc > window_high);
-        const Int4 take = walking & in_window & ~(cost > best_cost + tie_sq);
-        best_cost = take ? cost : best_cost;
-        best_sq = take ? distance_sq : best_sq;
-        best_t = take ? t : best_t;
-        best -= take;
-        walking = take & (best < last) & ~inner;
-      }
-      progress.segment = best;
-      const Float4 best_distance = sqrt4(best_sq);
-      // The guides' tangents at the chosen points: linear along the segment between its two ends'.
-      Float4 direction_length[4], start_tangent[4], end_tangent[4];
-      load_quad(group.segments, best, 1, direction_length);
-      load_quad(group.segments, best, 2, start_tangent);
-      load_quad(group.segments, best, 3, end_tangent);
-      const Float4 u = best_t * start_tangent[3];
-      Float4 tangent[3];
-      for (int c = 0; c < 3; ++c) tangent[c] = (1.0f - u) * start_tangent[c] + u * end_tangent[c];
-      const Float4 norm = sqrt4(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
-      const Float4 inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
-      for (int c = 0; c < 3; ++c) tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
-      const Float4 start_clearance = {group.clearances[0][best[0]], group.clearances[1][best[1]],
-                                      group.clearances[2][best[2]], group.clearances[3][best[3]]};
-      const Float4 end_clearance = {group.clearances[0][best[0] + 1], group.clearances[1][best[1] + 1],
-                                    group.clearances[2][best[2] + 1], group.clearances[3][best[3] + 1]};
-      const Float4 from_start = start_clearance - best_t, from_end = end_clearance - (direction_length[3] - best_t);
-      const Float4 lane_clearance = (from_start < from_end ? from_end : from_start) - best_distance;
-      clearance = clearance < lane_clearance ? lane_clearance : clearance;
-      const Float4 weight = group.influence / best_distance;
-      const Float4 pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
-      progress.pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
-
+      const GuideLanes &group = slots.groups[group_index];
+      const GuideMatch match = match_guides(px, py, pz, arcs, window, group, slots.progress[group_index]);
+      const Float4 &best_sq = match.distance_sq, &weight = match.weight;
+      const Float4(&tangent)[3] = match.tangent;
+      clearance = clearance < match.clearance ? match.clearance : clearance;
       // The blend, guide by guide in slot order. The usual case, four guides of which none is hit
       // and none before them was, takes the products lane-wise and only the sums one by one (the
       // same operations, so the same bits).
@@ -502,6 +532,433 @@ struct StreamlineField {
   }
 };
 
+/// The streamline fields of four strands with the same number of guides, one strand per SIMD lane:
+/// slot s holds guide s of each strand. A lane does the strand's own field's float operations in the
+/// same order (StreamlineField adds its guides up in slot order, as the lanes do here), so it gives
+/// that field to the bit, except in a lane where a guide is hit (d ~ 0): that lane is flagged for the
+/// strand's own field, which blends the hit guides alone.
+struct QuadField {
+  SearchWindow window;
+  Float4 hit_distance_sq;
+  int used = 0;
+  GuideLanes slots[max_guides_per_root];
+  GuideProgress progress[max_guides_per_root];
+
+  /// At p[c][l] (component c of lane l's point), at the lanes' arc lengths `arc`: the unit directions
+  /// (`fallback` where the blend vanishes), the distances to the nearest influencing guides, the
+  /// guides' lower bounds of the points' signed distances to the skin, and the lanes with a hit guide.
+  void operator()(const Float4 p[3], Float4 arc, const Float4 fallback[3], Float4 r_direction[3], Float4 &r_nearest,
+                  Float4 &r_clearance, Int4 &r_hit) {
+    Float4 blend[3] = {Float4{}, Float4{}, Float4{}}, weight_sum = Float4{};
+    Float4 nearest_sq = Float4{} + INFINITY, clearance = Float4{} - INFINITY;
+    Int4 hit = Int4{};
+    for (int s = 0; s < used; ++s) {
+      const GuideMatch match = match_guides(p[0], p[1], p[2], arc, window, slots[s], progress[s]);
+      clearance = clearance < match.clearance ? match.clearance : clearance;
+      hit |= match.distance_sq <= hit_distance_sq;
+      const Float4 counted = slots[s].influence > 0.0f ? match.distance_sq : Float4{} + INFINITY;
+      nearest_sq = counted < nearest_sq ? counted : nearest_sq;
+      for (int c = 0; c < 3; ++c) blend[c] += match.weight * match.tangent[c];
+      weight_sum += match.weight;
+    }
+    r_nearest = sqrt4(nearest_sq);
+    r_clearance = clearance;
+    r_hit = hit;
+    const Float4 norm = sqrt4(blend[0] * blend[0] + (blend[1] * blend[1] + blend[2] * blend[2]));
+    const Float4 inverse_norm = 1.0f / norm;
+    const Int4 defined = (norm > 1e-6f * weight_sum) & (norm > 0.0f);
+    for (int c = 0; c < 3; ++c) r_direction[c] = defined ? blend[c] * inverse_norm : fallback[c];
+  }
+};
+
+/// Tallies for GrowStats, kept per thread.
+struct GrowCounts {
+  int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0, first_points = 0,
+          first_points_proven = 0;
+};
+
+/// What every strand of one grow() call reads.
+struct GrowScene {
+  const Binding &binding;
+  const Mesh &mesh;
+  const MeshQuery &query;
+  const Roots &roots;
+  const StrandSet &guides;
+  const FrameGuides &frame;
+  const std::vector<float> &clearances;  // guide_clearances, streamline only
+  const SkinGrid *skin_grid;             // streamline only
+  float scale;                           // mesh_scale
+  int n;                                 // points per strand
+  float *clearance;                      // r_clearance's data, or null
+};
+
+// Midpoint steps (StreamlineStrand::step_from): the smoothness tests of a predicted step, far from and
+// within half a step of a guide, and the turning of the field near a guide above which a full step
+// is split into substeps (at most max_substeps).
+constexpr float kSmoothTurning = 0.01f, kNearSmoothTurning = 0.003f, kConeTurning = 0.02f;
+constexpr int max_substeps = 8;
+
+/// One strand's streamline-ratio growth: its guides' field, its skin guard and what its steps
+/// remember. begin() places the first point after the root, step_from(i) the point i + 1. StrandQuad runs
+/// four of them side by side and hands the steps it does not take in lanes back to them.
+struct StreamlineStrand {
+  const GrowScene &scene;
+  GrowCounts &counts;
+  int64_t root = 0;
+  Eigen::Vector3f *points = nullptr;
+  float step = 0.0f;  // segment length
+  StreamlineField field{};
+  StreamlineSlots slots;
+  SkinGuard guard;
+  // The last point where the field was evaluated, and the lower bound of its signed distance to the
+  // skin that the guides give (match_guides).
+  Eigen::Vector3f evaluated_at = Eigen::Vector3f::Zero();
+  float evaluated_clearance = -INFINITY;
+  // The field at the last two midpoints (when `history`), and the distance to the nearest guide
+  // there. last_middle is also the direction the last step aimed along.
+  Eigen::Vector3f last_middle = Eigen::Vector3f::Zero(), previous_middle = Eigen::Vector3f::Zero();
+  float nearest = 0.0f;
+  bool history = false;
+
+  StreamlineStrand(const GrowScene &scene, GrowCounts &counts)
+      : scene(scene), counts(counts),
+        guard(scene.query, scene.binding.settings.skin_margin, scene.scale, scene.skin_grid) {}
+
+  float skin_margin() const { return scene.binding.settings.skin_margin; }
+  bool near_a_guide(float distance) const { return distance > 0.0f && distance < 0.5f * step; }
+
+  Eigen::Vector3f evaluate(const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest,
+                           Eigen::Vector3f *r_nearest_tangent = nullptr) {
+    ++counts.evaluations;
+    evaluated_at = p;
+    return field(p, arc, slots, fallback, r_nearest, &evaluated_clearance, r_nearest_tangent);
+  }
+
+  /// Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment keeps
+  /// its length, and check again with a query (see SkinGuard::keep_out). A point that the guides'
+  /// clearance puts outside by the margin is not looked at.
+  Eigen::Vector3f advance(const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
+    const Eigen::Vector3f to = from + step * direction;
+    const float guided = evaluated_clearance - (to - evaluated_at).norm();
+    if (guided >= skin_margin() && guided > guard.lower_bound(to) && guard.know_outside(to, guided)) return to;
+    return keep_out(from, direction, to);
+  }
+  /// The rest of advance() for `to` = from + step * direction, when the guides do not prove it outside.
+  Eigen::Vector3f keep_out(const Eigen::Vector3f &from, const Eigen::Vector3f &direction, Eigen::Vector3f to) {
+    const Eigen::Vector3f aimed = to;
+    guard.keep_out(to);
+    if (to != aimed) {
+      to = from + step * unit_or(to - from, direction);
+      guard.keep_out(to, true);
+    }
+    return to;
+  }
+
+  /// Writes r_clearance for point i: what the guard proved there, or the grid's cell bound (a lookup)
+  /// when that is larger.
+  void record_clearance(int i) {
+    if (!scene.clearance) return;
+    const Eigen::Vector3f &p = points[i];
+    scene.clearance[root * scene.n + i] = std::max(guard.lower_bound(p), scene.skin_grid->distance_lower_bound(p));
+  }
+
+  /// Sets the strand up on root r, whose first point (on or above the skin) is in strand_points[0],
+  /// and takes its first step: along the guides' first directions carried to this root's frame, so
+  /// the strand leaves the skin the way its guides do.
+  void begin(int64_t r, Eigen::Vector3f *strand_points, const Slot *root_slots, int used,
+             const SurfaceFrame &root_frame, RecentOutside &recent_outside) {
+    const Binding &binding = scene.binding;
+    const FrameGuides &frame = scene.frame;
+    const InterpolationSettings &settings = binding.settings;
+    root = r;
+    points = strand_points;
+    step = binding.lengths[size_t(r)] / float(scene.n - 1);
+    const int lookahead = std::max(settings.lookahead_segments, 1);
+    const float hit_distance = std::max(1e-6f * step, 1e-12f), tie = 1e-5f * step;
+    field.window = {Float4{} + 0.5f * float(lookahead) * step, Int4{} + lookahead, Float4{} + tie * tie};
+    field.hit_distance_sq = hit_distance * hit_distance;
+    // The field's slots: lanes past the last guide repeat their group's first lane.
+    slots.used = used;
+    slots.group_count = (used + 3) / 4;
+    for (int lane = 0; lane < 4 * slots.group_count; ++lane) {
+      const int s = lane < used ? lane : lane & ~3;
+      const size_t g = size_t(root_slots[s].guide);
+      const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
+      const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
+      GuideLanes &group = slots.groups[lane / 4];
+      GuideProgress &progress = slots.progress[lane / 4];
+      const int l = lane % 4;
+      group.segments[l] = frame.segments.data() + first;
+      group.clearances[l] = scene.clearances.data() + scene.guides.offsets[g];
+      group.segment_count[l] = int32_t(last + 1 - first);
+      group.influence[l] = root_slots[s].influence;
+      group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
+      progress.segment[l] = 0;
+      progress.pace[l] = 0.0f;  // no distance known yet
+    }
+    guard.start(root_frame.origin, scene.roots.points[size_t(r)].triangle);
+    evaluated_at = root_frame.origin;
+    evaluated_clearance = -INFINITY;
+
+    Eigen::Vector3f seed = Eigen::Vector3f::Zero();
+    for (int s = 0; s < used; ++s) {
+      const size_t g = size_t(root_slots[s].guide);
+      seed += root_slots[s].weight * (root_slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
+    }
+    const Eigen::Vector3f first_direction = unit_or(seed, root_frame.normal());
+    // The guard knows only the root, on the skin, from which no bound follows: an earlier strand's
+    // first point may prove this one outside (RecentOutside), else the guard searches. What the guard
+    // then knows is kept for the next strands.
+    ++counts.first_points;
+    const RecentOutside::Ball *proof = recent_outside.proving(points[0] + step * first_direction, skin_margin());
+    if (proof) guard.know(proof->centre, proof->radius);
+    points[1] = advance(points[0], first_direction);
+    if (proof && guard.known_point() == proof->centre)
+      ++counts.first_points_proven;
+    else
+      recent_outside.add(guard.known_point(), guard.known_distance());
+    record_clearance(0);
+    record_clearance(1);
+    nearest = 0.0f;
+    history = false;
+    last_middle = previous_middle = first_direction;
+  }
+
+  /// Places point i + 1 (i >= 1) by a midpoint step through the guides' direction field: exact on a
+  /// guide traced from its root. Where the field is smooth along the strand, the midpoint is placed
+  /// with the field's direction at the step's start predicted from the directions found at the last
+  /// two midpoints (linear extrapolation, F(p_i) ~ 1.5 F(m_i-1/2) - 0.5 F(m_i-3/2)): the midpoint is
+  /// then off by O(h^3) and the step keeps the midpoint rule's order with one field evaluation instead
+  /// of two. Smooth means that the second difference of those directions, with the new one, stays
+  /// below kSmoothTurning (kNearSmoothTurning within half a step of a guide); otherwise (a sharp bend
+  /// of a guide, a tight curl, the strand pushed off by the skin) the step is redone in full from the
+  /// field at its start (full_step_from). The first step after begin() is a full step too.
+  void step_from(int i) {
+    ++counts.steps;
+    if (history) {
+      const float smooth = near_a_guide(nearest) ? kNearSmoothTurning : kSmoothTurning;
+      const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
+      const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
+      float middle_nearest = 0.0f;
+      GuideProgress saved[StreamlineSlots::max_groups];
+      std::copy(slots.progress, slots.progress + slots.group_count, saved);
+      const Eigen::Vector3f middle_direction =
+          evaluate(middle, (float(i) + 0.5f) * step, start_direction, &middle_nearest);
+      if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= smooth * smooth) {
+        ++counts.predicted_steps;
+        nearest = middle_nearest;
+        points[i + 1] = advance(points[i], middle_direction);
+        previous_middle = last_middle;
+        last_middle = middle_direction;
+        record_clearance(i + 1);
+        return;
+      }
+      // The full step searches the guides from where they were.
+      std::copy(saved, saved + slots.group_count, slots.progress);
+    }
+    full_step_from(i);
+  }
+
+  /// A full midpoint step from point i (step_from() counts it). Near a guide, at distance d below half a
+  /// step, the blend is that guide's tangent T plus a part that grows with d: F ~ T + d V, a cone
+  /// with its tip on the guide, which turns by about (h / 2) |F - T| / d over half a step. Along
+  /// guides that run alike, V is small and a step resolves it as anywhere else. Where it turns by more
+  /// than kConeTurning (another guide near and pointing elsewhere, guides meeting at an angle), the
+  /// step is split into substeps of about d (at most max_substeps), and the point lands one segment
+  /// length along their chord.
+  void full_step_from(int i) {
+    const Eigen::Vector3f direction = unit_or(points[i] - points[i - 1], last_middle);
+    Eigen::Vector3f nearest_tangent = Eigen::Vector3f::Zero();
+    Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest, &nearest_tangent);
+    const int substeps = near_a_guide(nearest) &&
+                                 0.5f * step * (start_direction - nearest_tangent).norm() > kConeTurning * nearest
+                             ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
+                             : 1;
+    if (substeps > 1) ++counts.substepped_steps;
+    const float substep = step / float(substeps);
+    Eigen::Vector3f p = points[i], last_direction = direction;
+    for (int sub = 0; sub < substeps; ++sub) {
+      const float arc = float(i) * step + float(sub) * substep;
+      if (sub > 0) start_direction = evaluate(p, arc, last_direction, nullptr);
+      const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
+      last_direction = evaluate(middle, arc + 0.5f * substep, start_direction, &nearest);
+      p += substep * last_direction;
+    }
+    points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
+    // One whole step: the field at the midpoint before it extrapolates back from start and middle.
+    history = substeps == 1;
+    previous_middle = unit_or(2.0f * start_direction - last_direction, start_direction);
+    last_middle = last_direction;
+    record_clearance(i + 1);
+  }
+};
+
+/// Four begun strands with the same number of guides, grown side by side, one per SIMD lane
+/// (QuadField). Most steps are predicted midpoint steps whose field is smooth and whose new point the
+/// guides prove outside the skin: those are taken in lanes, each lane doing its strand's own float
+/// operations in the same order, so the strands come out the same to the bit as grown one by one.
+/// A strand's other steps (full and split steps, a hit guide, a point the skin guard must look at)
+/// are handed to the strand (StreamlineStrand::step_from).
+class StrandQuad {
+ public:
+  explicit StrandQuad(StreamlineStrand *const strands[4]) {
+    for (int l = 0; l < 4; ++l) {
+      strands_[l] = strands[l];
+      const StreamlineStrand &strand = *strands[l];
+      step_[l] = strand.step;
+      field_.window.half_arc[l] = strand.field.window.half_arc[0];
+      field_.window.lookahead[l] = strand.field.window.lookahead[0];
+      field_.window.tie_sq[l] = strand.field.window.tie_sq[0];
+      field_.hit_distance_sq[l] = strand.field.hit_distance_sq;
+    }
+    field_.used = strands[0]->slots.used;
+    for (int s = 0; s < field_.used; ++s)
+      for (int l = 0; l < 4; ++l) {
+        const GuideLanes &group = strands[l]->slots.groups[s / 4];
+        GuideLanes &slot = field_.slots[s];
+        slot.segments[l] = group.segments[s % 4];
+        slot.clearances[l] = group.clearances[s % 4];
+        slot.segment_count[l] = group.segment_count[s % 4];
+        slot.influence[l] = group.influence[s % 4];
+        slot.arc_scale[l] = group.arc_scale[s % 4];
+      }
+    for (int l = 0; l < 4; ++l) take_back(l, 1);
+  }
+
+  /// Points 2 .. n - 1 of the four strands.
+  void grow(int n) {
+    for (int i = 1; i + 1 < n; ++i) take_step(i);
+  }
+
+ private:
+  /// Point i + 1 of every strand.
+  void take_step(int i) {
+    if (!any(history_)) {
+      for (int l = 0; l < 4; ++l) hand_step(l, i, false);
+      return;
+    }
+    const float margin = strands_[0]->skin_margin();
+    // StreamlineStrand::step_from's predicted step, in lanes.
+    const Int4 near = (nearest_ > 0.0f) & (nearest_ < 0.5f * step_);
+    const Float4 smooth = near ? Float4{} + kNearSmoothTurning : Float4{} + kSmoothTurning;
+    Float4 extrapolated[3], start_direction[3], middle[3];
+    for (int c = 0; c < 3; ++c) extrapolated[c] = 1.5f * last_middle_[c] - 0.5f * previous_middle_[c];
+    const Float4 extrapolated_norm = sqrt4(extrapolated[0] * extrapolated[0] +
+                                           (extrapolated[1] * extrapolated[1] + extrapolated[2] * extrapolated[2]));
+    const Float4 inverse_norm = 1.0f / extrapolated_norm;
+    for (int c = 0; c < 3; ++c) {
+      start_direction[c] = extrapolated_norm > 1e-20f ? extrapolated[c] * inverse_norm : last_middle_[c];
+      middle[c] = point_[c] + (0.5f * step_) * start_direction[c];
+    }
+    GuideProgress saved[max_guides_per_root];
+    std::copy(field_.progress, field_.progress + field_.used, saved);
+    Float4 middle_direction[3], middle_nearest, middle_clearance;
+    Int4 hit;
+    field_(middle, (float(i) + 0.5f) * step_, start_direction, middle_direction, middle_nearest, middle_clearance, hit);
+    Float4 turn[3];
+    for (int c = 0; c < 3; ++c) turn[c] = middle_direction[c] - 2.0f * last_middle_[c] + previous_middle_[c];
+    const Int4 smooth_enough = turn[0] * turn[0] + (turn[1] * turn[1] + turn[2] * turn[2]) <= smooth * smooth;
+    const Int4 predicted = history_ & ~hit & smooth_enough;
+    // StreamlineStrand::advance, in lanes, up to the guard's own checks.
+    const SkinGuard *const guards[4] = {&strands_[0]->guard, &strands_[1]->guard, &strands_[2]->guard,
+                                        &strands_[3]->guard};
+    const Float4 known_distance = {guards[0]->known_distance(), guards[1]->known_distance(),
+                                   guards[2]->known_distance(), guards[3]->known_distance()};
+    Float4 to[3], from_middle[3], from_known[3];
+    for (int c = 0; c < 3; ++c) {
+      const Float4 known_point = {guards[0]->known_point()[c], guards[1]->known_point()[c],
+                                  guards[2]->known_point()[c], guards[3]->known_point()[c]};
+      to[c] = point_[c] + step_ * middle_direction[c];
+      from_middle[c] = to[c] - middle[c];
+      from_known[c] = to[c] - known_point;
+    }
+    const Float4 guided =
+        middle_clearance - sqrt4(from_middle[0] * from_middle[0] + (from_middle[1] * from_middle[1] + from_middle[2] * from_middle[2]));
+    const Float4 known_bound =
+        known_distance - sqrt4(from_known[0] * from_known[0] + (from_known[1] * from_known[1] + from_known[2] * from_known[2]));
+    const Int4 guided_outside = (guided >= margin) & (guided > known_bound);
+    if (any(~predicted))
+      for (int s = 0; s < field_.used; ++s) {
+        field_.progress[s].segment = predicted ? field_.progress[s].segment : saved[s].segment;
+        field_.progress[s].pace = predicted ? field_.progress[s].pace : saved[s].pace;
+      }
+    nearest_ = predicted ? middle_nearest : nearest_;
+    for (int c = 0; c < 3; ++c) {
+      previous_middle_[c] = predicted ? last_middle_[c] : previous_middle_[c];
+      last_middle_[c] = predicted ? middle_direction[c] : last_middle_[c];
+    }
+    for (int l = 0; l < 4; ++l) {
+      if (!predicted[l]) {
+        // A prediction that was looked at and failed is followed by a full step, as in step_from().
+        hand_step(l, i, history_[l] && !hit[l]);
+        continue;
+      }
+      StreamlineStrand &strand = *strands_[l];
+      ++strand.counts.steps;
+      ++strand.counts.evaluations;
+      ++strand.counts.predicted_steps;
+      const Eigen::Vector3f from(point_[0][l], point_[1][l], point_[2][l]);
+      Eigen::Vector3f next(to[0][l], to[1][l], to[2][l]);
+      if (!(guided_outside[l] && strand.guard.know_outside(next, guided[l])))
+        next = strand.keep_out(from, Eigen::Vector3f(middle_direction[0][l], middle_direction[1][l], middle_direction[2][l]), next);
+      strand.points[i + 1] = next;
+      strand.record_clearance(i + 1);
+      for (int c = 0; c < 3; ++c) point_[c][l] = next[c];
+    }
+  }
+
+  /// Strand l takes step i itself: the whole step, or (`looked_at`) the full step after a prediction
+  /// that was evaluated in lanes and failed.
+  void hand_step(int l, int i, bool looked_at) {
+    hand_over(l);
+    StreamlineStrand &strand = *strands_[l];
+    if (looked_at) {
+      ++strand.counts.steps;
+      ++strand.counts.evaluations;
+      strand.full_step_from(i);
+    } else {
+      strand.step_from(i);
+    }
+    take_back(l, i + 1);
+  }
+  /// Lane l's state to its strand.
+  void hand_over(int l) {
+    StreamlineStrand &strand = *strands_[l];
+    strand.last_middle = Eigen::Vector3f(last_middle_[0][l], last_middle_[1][l], last_middle_[2][l]);
+    strand.previous_middle = Eigen::Vector3f(previous_middle_[0][l], previous_middle_[1][l], previous_middle_[2][l]);
+    strand.nearest = nearest_[l];
+    strand.history = history_[l] != 0;
+    StreamlineSlots &slots = strand.slots;
+    for (int lane = 0; lane < 4 * slots.group_count; ++lane) {
+      const int s = lane < slots.used ? lane : lane & ~3;
+      slots.progress[lane / 4].segment[lane % 4] = field_.progress[s].segment[l];
+      slots.progress[lane / 4].pace[lane % 4] = field_.progress[s].pace[l];
+    }
+  }
+  /// Strand l's state, at point i, to lane l.
+  void take_back(int l, int i) {
+    const StreamlineStrand &strand = *strands_[l];
+    for (int c = 0; c < 3; ++c) {
+      point_[c][l] = strand.points[i][c];
+      last_middle_[c][l] = strand.last_middle[c];
+      previous_middle_[c][l] = strand.previous_middle[c];
+    }
+    nearest_[l] = strand.nearest;
+    history_[l] = strand.history ? -1 : 0;
+    for (int s = 0; s < field_.used; ++s) {
+      field_.progress[s].segment[l] = strand.slots.progress[s / 4].segment[s % 4];
+      field_.progress[s].pace[l] = strand.slots.progress[s / 4].pace[s % 4];
+    }
+  }
+
+  StreamlineStrand *strands_[4];
+  QuadField field_;
+  Float4 step_;
+  // Lane l: strand l's current point and StreamlineStrand's step state.
+  Float4 point_[3], last_middle_[3], previous_middle_[3], nearest_;
+  Int4 history_;
+};
+
 }  // namespace
 
 std::string GrowStats::summary() const {
@@ -550,246 +1007,116 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     r_clearance->clear();
     if (streamline) r_clearance->resize(r_strands.positions.size());
   }
-  float *const clearance = r_clearance && streamline ? r_clearance->data() : nullptr;
+  const GrowScene scene{binding, mesh,  query, roots, guides, frame, clearances, skin_grid, scale, n,
+                        r_clearance && streamline ? r_clearance->data() : nullptr};
   if (options.with_widths)
     for (size_t r = 0; r < roots.size(); ++r)
       for (int i = 0; i < n; ++i)
         r_strands.widths[r * size_t(n) + size_t(i)] =
             options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
 
+  // Roots are taken four at a time, so that streamline strands can grow side by side (StrandQuad).
   const int64_t root_count = int64_t(roots.size());
+  const int64_t quad_count = (root_count + 3) / 4;
   int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0, first_points = 0,
           first_points_proven = 0;
 #pragma omp parallel reduction(+ : steps, predicted_steps, substepped_steps, evaluations, first_points, \
                                    first_points_proven)
   {
     RecentOutside recent_outside;  // this thread's last strands' first points
+    GrowCounts counts;
+    StreamlineStrand strands[4] = {{scene, counts}, {scene, counts}, {scene, counts}, {scene, counts}};
 #pragma omp for schedule(static)
-    for (int64_t r = 0; r < root_count; ++r) {
-      const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
-      const Eigen::Vector3f normal = root_frame.normal();
-      Slot slots[max_guides_per_root];
-      int used = 0;
-      for (int s = 0; s < k; ++s) {
-        const size_t slot = size_t(r) * size_t(k) + size_t(s);
-        const int32_t g = binding.guide_ids[slot];
-        if (g < 0) break;
-        // Q_root(t) * rest rotation * Q_guide(t)^T: a rigid motion of the skin gives back the rest
-        // rotation conjugated by that motion, so carried guides move exactly rigidly.
-        slots[used++] = {g, binding.weights[slot], binding.influence[slot],
-                         root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
-                             frame.frames[size_t(g)].transpose()};
-      }
-      Eigen::Vector3f *points = r_strands.positions.data() + r * n;
+    for (int64_t quad = 0; quad < quad_count; ++quad) {
+      const int64_t first_root = 4 * quad, end_root = std::min(first_root + 4, root_count);
+      for (int64_t r = first_root; r < end_root; ++r) {
+        const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
+        const Eigen::Vector3f normal = root_frame.normal();
+        Slot slots[max_guides_per_root];
+        int used = 0;
+        for (int s = 0; s < k; ++s) {
+          const size_t slot = size_t(r) * size_t(k) + size_t(s);
+          const int32_t g = binding.guide_ids[slot];
+          if (g < 0) break;
+          // Q_root(t) * rest rotation * Q_guide(t)^T: a rigid motion of the skin gives back the rest
+          // rotation conjugated by that motion, so carried guides move exactly rigidly.
+          slots[used++] = {g, binding.weights[slot], binding.influence[slot],
+                           root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
+                               frame.frames[size_t(g)].transpose()};
+        }
+        Eigen::Vector3f *points = r_strands.positions.data() + r * n;
 
-      if (settings.method == InterpolationSettings::Method::linear) {
-        // Root-relative offsets of the resampled guides, blended as they are (no rotation).
-        for (int i = 0; i < n; ++i) {
-          Eigen::Vector3f p = root_frame.origin;
-          for (int s = 0; s < used; ++s) {
-            const size_t g = size_t(slots[s].guide);
-            p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
+        if (settings.method == InterpolationSettings::Method::linear) {
+          // Root-relative offsets of the resampled guides, blended as they are (no rotation).
+          for (int i = 0; i < n; ++i) {
+            Eigen::Vector3f p = root_frame.origin;
+            for (int s = 0; s < used; ++s) {
+              const size_t g = size_t(slots[s].guide);
+              p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
+            }
+            points[i] = p;
           }
-          points[i] = p;
+          continue;
         }
-        continue;
-      }
 
-      // The root: on the skin, lifted along its normal by the height of the guides' own first points
-      // above their surface points (carried), never below the skin. Only the height: a sideways part
-      // would move the root off its place on the skin, and where the skin curves (round an ear) into it.
-      Eigen::Vector3f lift = Eigen::Vector3f::Zero();
-      for (int s = 0; s < used; ++s) {
-        const size_t g = size_t(slots[s].guide);
-        lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
-      }
-      const float height = std::max(lift.dot(normal), 0.0f);
-      points[0] = root_frame.origin + height * normal;
-      if (height > 1e-6f * scale && skin_grid) {
-        // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
-        // normals average its two sides) the normal can lead behind another part of the skin: then the
-        // root stays on the skin. A lift within the skin guard's tolerance (a millionth of the mesh
-        // size: guide roots on the skin up to rounding) cannot reach another part of it and needs no
-        // query.
-        SurfacePoint closest;
-        if (skin_grid->signed_distance(points[0], roots.points[size_t(r)].triangle, closest) < 0.0f)
-          points[0] = root_frame.origin;
-      }
+        // The root: on the skin, lifted along its normal by the height of the guides' own first points
+        // above their surface points (carried), never below the skin. Only the height: a sideways part
+        // would move the root off its place on the skin, and where the skin curves (round an ear) into it.
+        Eigen::Vector3f lift = Eigen::Vector3f::Zero();
+        for (int s = 0; s < used; ++s) {
+          const size_t g = size_t(slots[s].guide);
+          lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
+        }
+        const float height = std::max(lift.dot(normal), 0.0f);
+        points[0] = root_frame.origin + height * normal;
+        if (height > 1e-6f * scale && skin_grid) {
+          // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
+          // normals average its two sides) the normal can lead behind another part of the skin: then the
+          // root stays on the skin. A lift within the skin guard's tolerance (a millionth of the mesh
+          // size: guide roots on the skin up to rounding) cannot reach another part of it and needs no
+          // query.
+          SurfacePoint closest;
+          if (skin_grid->signed_distance(points[0], roots.points[size_t(r)].triangle, closest) < 0.0f)
+            points[0] = root_frame.origin;
+        }
 
-      if (settings.method == InterpolationSettings::Method::fur) {
-        // Segment j: weighted length and weighted direction of the carried guides' segments j.
-        Eigen::Vector3f direction = normal;
-        for (int i = 0; i + 1 < n; ++i) {
-          Eigen::Vector3f blend = Eigen::Vector3f::Zero();
-          float length = 0.0f;
-          for (int s = 0; s < used; ++s) {
-            const size_t at = size_t(slots[s].guide) * size_t(n - 1) + size_t(i);
-            blend += slots[s].weight * (slots[s].rotation * frame.resampled_directions[at]);
-            length += slots[s].weight * frame.resampled_lengths[at];
+        if (settings.method == InterpolationSettings::Method::fur) {
+          // Segment j: weighted length and weighted direction of the carried guides' segments j.
+          Eigen::Vector3f direction = normal;
+          for (int i = 0; i + 1 < n; ++i) {
+            Eigen::Vector3f blend = Eigen::Vector3f::Zero();
+            float length = 0.0f;
+            for (int s = 0; s < used; ++s) {
+              const size_t at = size_t(slots[s].guide) * size_t(n - 1) + size_t(i);
+              blend += slots[s].weight * (slots[s].rotation * frame.resampled_directions[at]);
+              length += slots[s].weight * frame.resampled_lengths[at];
+            }
+            direction = unit_or(blend, direction);
+            points[i + 1] = points[i] + length * direction;
           }
-          direction = unit_or(blend, direction);
-          points[i + 1] = points[i] + length * direction;
+          continue;
         }
-        continue;
-      }
 
-      // Streamline-ratio growth.
-      const float step = binding.lengths[size_t(r)] / float(n - 1);
-      const StreamlineField field{0.5f * float(std::max(settings.lookahead_segments, 1)) * step,
-                                  std::max(settings.lookahead_segments, 1),
-                                  std::max(1e-6f * step, 1e-12f) * std::max(1e-6f * step, 1e-12f),
-                                  (1e-5f * step) * (1e-5f * step)};
-      // The field's slots: lanes past the last guide repeat their group's first lane.
-      StreamlineSlots field_slots;
-      field_slots.used = used;
-      field_slots.group_count = (used + 3) / 4;
-      for (int lane = 0; lane < 4 * field_slots.group_count; ++lane) {
-        const int s = lane < used ? lane : lane & ~3;
-        const size_t g = size_t(slots[s].guide);
-        const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
-        const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
-        StreamlineSlots::Group &group = field_slots.groups[lane / 4];
-        StreamlineSlots::Progress &progress = field_slots.progress[lane / 4];
-        const int l = lane % 4;
-        group.segments[l] = frame.segments.data() + first;
-        group.clearances[l] = clearances.data() + guides.offsets[g];
-        group.segment_count[l] = int32_t(last + 1 - first);
-        group.influence[l] = slots[s].influence;
-        group.arc_scale[l] = binding.lengths[size_t(r)] > 0.0f ? guide_length / binding.lengths[size_t(r)] : 1.0f;
-        progress.segment[l] = 0;
-        progress.pace[l] = 0.0f;  // no distance known yet
+        strands[r - first_root].begin(r, points, slots, used, root_frame, recent_outside);
       }
-      SkinGuard guard(query, settings.skin_margin, scale, skin_grid);
-      guard.start(root_frame.origin, roots.points[size_t(r)].triangle);
-      // The last point where the field was evaluated, and the lower bound of its signed distance to
-      // the skin that the guides give (StreamlineField).
-      Eigen::Vector3f evaluated_at = root_frame.origin;
-      float evaluated_clearance = -INFINITY;
-      auto evaluate = [&](const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest,
-                          Eigen::Vector3f *r_nearest_tangent = nullptr) {
-        ++evaluations;
-        evaluated_at = p;
-        return field(p, arc, field_slots, fallback, r_nearest, &evaluated_clearance, r_nearest_tangent);
-      };
-      // Step along `direction` by one segment, out of the skin; if pushed, re-aim so the segment
-      // keeps its length, and check again with a query (see SkinGuard::keep_out). A point that the
-      // guides' clearance puts outside by the margin is not looked at.
-      auto advance = [&](const Eigen::Vector3f &from, const Eigen::Vector3f &direction) {
-        Eigen::Vector3f to = from + step * direction;
-        const Eigen::Vector3f aimed = to;
-        const float guided = evaluated_clearance - (to - evaluated_at).norm();
-        if (guided >= settings.skin_margin && guided > guard.lower_bound(to) && guard.know_outside(to, guided))
-          return to;
-        guard.keep_out(to);
-        if (to != aimed) {
-          to = from + step * unit_or(to - from, direction);
-          guard.keep_out(to, true);
-        }
-        return to;
-      };
-      // What the guard proved at a point, or the grid's cell bound (a lookup) when that is larger.
-      auto proven_clearance = [&](const Eigen::Vector3f &p) {
-        return std::max(guard.lower_bound(p), skin_grid->distance_lower_bound(p));
-      };
-      // First step: the guides' first directions carried to this root's frame, so the strand leaves
-      // the skin the way its guides do.
-      Eigen::Vector3f seed = Eigen::Vector3f::Zero();
-      for (int s = 0; s < used; ++s) {
-        const size_t g = size_t(slots[s].guide);
-        seed += slots[s].weight * (slots[s].rotation * frame.segments[size_t(frame.segment_offsets[g])].direction);
-      }
-      const Eigen::Vector3f first_direction = unit_or(seed, normal);
-      // The guard knows only the root, on the skin, from which no bound follows: an earlier strand's
-      // first point may prove this one outside (RecentOutside), else the guard searches. What the guard
-      // then knows is kept for the next strands.
-      ++first_points;
-      const RecentOutside::Ball *proof =
-          recent_outside.proving(points[0] + step * first_direction, settings.skin_margin);
-      if (proof) guard.know(proof->centre, proof->radius);
-      points[1] = advance(points[0], first_direction);
-      if (proof && guard.known_point() == proof->centre)
-        ++first_points_proven;
-      else
-        recent_outside.add(guard.known_point(), guard.known_distance());
-      if (clearance) {
-        clearance[r * n] = proven_clearance(points[0]);
-        clearance[r * n + 1] = proven_clearance(points[1]);
-      }
-      // The direction of the strand's last segment is unit_or(points[i] - points[i - 1], last_aim), with
-      // last_aim the field's direction that step took: the fallback of a full step's first evaluation.
-      // Only full steps need it, so a predicted step keeps its aim and leaves the square root out.
-      Eigen::Vector3f last_aim = first_direction;
-      // Then midpoint steps through the guides' direction field: exact on a guide traced from its root.
-      // Where the field is smooth along the strand, the midpoint is placed with the field's direction at
-      // the step's start predicted from the directions found at the last two midpoints (linear
-      // extrapolation, F(p_i) ~ 1.5 F(m_i-1/2) - 0.5 F(m_i-3/2)): the midpoint is then off by O(h^3) and
-      // the step keeps the midpoint rule's order with one field evaluation instead of two. Smooth means
-      // that the second difference of those directions, with the new one, stays below kSmoothTurning
-      // (kNearSmoothTurning within half a step of a guide); otherwise (a sharp bend of a guide, a tight
-      // curl, the strand pushed off by the skin) the step is redone in full from the field at its start.
-      // The first step is a full step too.
-      // Near a guide, at distance d below half a step, the blend is that guide's tangent T plus a part
-      // that grows with d: F ~ T + d V, a cone with its tip on the guide, which turns by about
-      // (h / 2) |F - T| / d over half a step. Along guides that run alike, V is small and a step
-      // resolves it as anywhere else. Where it turns by more than kConeTurning (another guide near and
-      // pointing elsewhere, guides meeting at an angle), a full step is split into substeps of about d
-      // (at most max_substeps), and the point lands one segment length along their chord.
-      constexpr int max_substeps = 8;
-      constexpr float kSmoothTurning = 0.01f, kNearSmoothTurning = 0.003f, kConeTurning = 0.02f;
-      auto near_a_guide = [&](float distance) { return distance > 0.0f && distance < 0.5f * step; };
-      float nearest = 0.0f;
-      bool history = false;  // last_middle and previous_middle hold the field at the last two midpoints
-      Eigen::Vector3f last_middle = first_direction, previous_middle = first_direction;
-      for (int i = 1; i + 1 < n; ++i) {
-        ++steps;
-        if (history) {
-          const float smooth = near_a_guide(nearest) ? kNearSmoothTurning : kSmoothTurning;
-          const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
-          const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
-          float middle_nearest = 0.0f;
-          StreamlineSlots::Progress saved[StreamlineSlots::max_groups];
-          std::copy(field_slots.progress, field_slots.progress + field_slots.group_count, saved);
-          const Eigen::Vector3f middle_direction =
-              evaluate(middle, (float(i) + 0.5f) * step, start_direction, &middle_nearest);
-          if ((middle_direction - 2.0f * last_middle + previous_middle).squaredNorm() <= smooth * smooth) {
-            ++predicted_steps;
-            nearest = middle_nearest;
-            points[i + 1] = advance(points[i], middle_direction);
-            last_aim = middle_direction;
-            previous_middle = last_middle;
-            last_middle = middle_direction;
-            if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
-            continue;
-          }
-          // The full step searches the guides from where they were.
-          std::copy(saved, saved + field_slots.group_count, field_slots.progress);
-        }
-        const Eigen::Vector3f direction = unit_or(points[i] - points[i - 1], last_aim);
-        Eigen::Vector3f nearest_tangent = Eigen::Vector3f::Zero();
-        Eigen::Vector3f start_direction = evaluate(points[i], float(i) * step, direction, &nearest, &nearest_tangent);
-        const int substeps = near_a_guide(nearest) &&
-                                     0.5f * step * (start_direction - nearest_tangent).norm() > kConeTurning * nearest
-                                 ? std::min(max_substeps, int(std::ceil(0.5f * step / nearest)))
-                                 : 1;
-        if (substeps > 1) ++substepped_steps;
-        const float substep = step / float(substeps);
-        Eigen::Vector3f p = points[i], last_direction = direction;
-        for (int sub = 0; sub < substeps; ++sub) {
-          const float arc = float(i) * step + float(sub) * substep;
-          if (sub > 0) start_direction = evaluate(p, arc, last_direction, nullptr);
-          const Eigen::Vector3f middle = p + (0.5f * substep) * start_direction;
-          last_direction = evaluate(middle, arc + 0.5f * substep, start_direction, &nearest);
-          p += substep * last_direction;
-        }
-        points[i + 1] = advance(points[i], substeps == 1 ? last_direction : unit_or(p - points[i], last_direction));
-        last_aim = last_direction;
-        // One whole step: the field at the midpoint before it extrapolates back from start and middle.
-        history = substeps == 1;
-        previous_middle = unit_or(2.0f * start_direction - last_direction, start_direction);
-        last_middle = last_direction;
-        if (clearance) clearance[r * n + i + 1] = proven_clearance(points[i + 1]);
+      if (!streamline) continue;
+      const int strand_count = int(end_root - first_root);
+      bool side_by_side = strand_count == 4;
+      for (int j = 1; j < strand_count; ++j) side_by_side &= strands[j].slots.used == strands[0].slots.used;
+      if (side_by_side) {
+        StreamlineStrand *const quad_strands[4] = {&strands[0], &strands[1], &strands[2], &strands[3]};
+        StrandQuad(quad_strands).grow(n);
+      } else {
+        for (int j = 0; j < strand_count; ++j)
+          for (int i = 1; i + 1 < n; ++i) strands[j].step_from(i);
       }
     }
+    steps += counts.steps;
+    predicted_steps += counts.predicted_steps;
+    substepped_steps += counts.substepped_steps;
+    evaluations += counts.evaluations;
+    first_points += counts.first_points;
+    first_points_proven += counts.first_points_proven;
   }
 
   if (options.r_stats)

@@ -222,6 +222,8 @@ struct Scratch {
   /// segment lengths as lanes (see apply_curl).
   std::vector<Eigen::Vector3f> curl_points;
   std::vector<Float4> curl_lanes;
+  /// Clump's twist angle's cosine and sine at each point of a strand.
+  std::vector<float> twist_cos, twist_sin;
 };
 
 /// A strand's points laid out in r_copy[0 .. size) with one copy of the root before them and copies
@@ -251,6 +253,20 @@ void load_lanes(const Eigen::Vector3f *points, Float4 r_axes[3]) {
   r_axes[0] = __builtin_shuffle(__builtin_shuffle(a, b, Int4{0, 3, 6, 0}), c, Int4{0, 1, 2, 5});
   r_axes[1] = __builtin_shuffle(__builtin_shuffle(a, b, Int4{1, 4, 7, 0}), c, Int4{0, 1, 2, 6});
   r_axes[2] = __builtin_shuffle(__builtin_shuffle(a, b, Int4{2, 5, 0, 0}), c, Int4{0, 1, 4, 7});
+}
+
+/// The inverse of load_lanes: coordinate a of points[l] from axes[a][l].
+void store_lanes(const Float4 axes[3], Eigen::Vector3f *points) {
+  const Float4 xy_low = __builtin_shufflevector(axes[0], axes[1], 0, 4, 1, 5);   // x0 y0 x1 y1
+  const Float4 xy_high = __builtin_shufflevector(axes[0], axes[1], 2, 6, 3, 7);  // x2 y2 x3 y3
+  const Float4 a = __builtin_shufflevector(xy_low, axes[2], 0, 1, 4, 2);        // x0 y0 z0 x1
+  const Float4 b = __builtin_shufflevector(__builtin_shufflevector(xy_low, axes[2], 3, 5, 0, 0), xy_high, 0, 1, 4,
+                                           5);                                  // y1 z1 x2 y2
+  const Float4 c = __builtin_shufflevector(axes[2], xy_high, 2, 6, 7, 3);       // z2 x3 y3 z3
+  float *f = points->data();
+  std::memcpy(f, &a, sizeof a);
+  std::memcpy(f + 4, &b, sizeof b);
+  std::memcpy(f + 8, &c, sizeof c);
 }
 
 /// Four floats from memory (any alignment).
@@ -458,9 +474,10 @@ void centre_axes(std::span<const Eigen::Vector3f> centre, Eigen::Vector3f *r_axe
 /// theta = 2 pi * twist * strength * t. The centre strand is read as earlier effects left it.
 ///
 /// `unit_axes`: when the centre has as many points as the strand, its unit segment directions at
-/// each point index (see centre_axes), else null.
+/// each point index (see centre_axes), else null. Such strands are moved four points at a time in
+/// lanes, each lane with the operations of one point, so with the same bits.
 void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t i, const StrandSet &strands,
-                 const Eigen::Vector3f *unit_axes, std::span<Eigen::Vector3f> pts) {
+                 const Eigen::Vector3f *unit_axes, std::span<Eigen::Vector3f> pts, Scratch &scratch) {
   const float s = e.strength[i];
   const std::span<const Eigen::Vector3f> centre = strands.points(size_t(e.centre_of[i]));
   const int64_t n = int64_t(pts.size());
@@ -470,11 +487,39 @@ void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
   const float step_angle = kTwoPi * e.desc.clump_twist * s / float(n - 1);
   float cos_step = 1.0f, sin_step = 0.0f;
   sin_cos(step_angle, sin_step, cos_step);
+  std::vector<float> &twist_cos = scratch.twist_cos, &twist_sin = scratch.twist_sin;
+  twist_cos.resize(size_t(n));
+  twist_sin.resize(size_t(n));
   float cos_theta = 1.0f, sin_theta = 0.0f;
   for (int64_t j = 1; j < n; ++j) {
     const float cos_next = cos_theta * cos_step - sin_theta * sin_step;
     sin_theta = sin_theta * cos_step + cos_theta * sin_step;
     cos_theta = cos_next;
+    twist_cos[size_t(j)] = cos_theta;
+    twist_sin[size_t(j)] = sin_theta;
+  }
+  int64_t j = 1;
+  if (same_count)
+    for (; j + 4 <= n; j += 4) {
+      Float4 p[3], c[3], a[3], d[3];
+      load_lanes(pts.data() + j, p);
+      load_lanes(centre.data() + j, c);
+      load_lanes(unit_axes + j, a);
+      const Float4 weight = s * ramp.at4(j, n);
+      const Float4 w = weight < 0.0f ? Float4{} : (1.0f < weight ? Float4{} + 1.0f : weight);  // std::clamp
+      for (int k = 0; k < 3; ++k) d[k] = (1.0f - w) * (p[k] - c[k]);
+      if (step_angle != 0.0f) {
+        // Rodrigues' formula as below, with Eigen's cross and dot products' operations.
+        const Float4 cos4 = load_lane(twist_cos.data() + j), sin4 = load_lane(twist_sin.data() + j);
+        const Float4 cross[3] = {a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2], a[0] * d[1] - a[1] * d[0]};
+        const Float4 along = (1.0f - cos4) * dot_lanes(a, d);
+        const Int4 has_axis = dot_lanes(a, a) > 0.0f;
+        for (int k = 0; k < 3; ++k) d[k] = has_axis ? cos4 * d[k] + sin4 * cross[k] + along * a[k] : d[k];
+      }
+      for (int k = 0; k < 3; ++k) p[k] = c[k] + d[k];
+      store_lanes(p, pts.data() + j);
+    }
+  for (; j < n; ++j) {
     // The centre at the same parameter, and its segment there: point j itself when the counts match.
     Eigen::Vector3f axis, c;
     if (same_count) {
@@ -489,7 +534,7 @@ void apply_clump(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
     if (step_angle != 0.0f && axis.squaredNorm() > 0.0f) {
       // Rodrigues' formula on d alone (no matrix), about the unit axis.
       const Eigen::Vector3f &a = axis;
-      d = cos_theta * d + sin_theta * a.cross(d) + ((1.0f - cos_theta) * a.dot(d)) * a;
+      d = twist_cos[size_t(j)] * d + twist_sin[size_t(j)] * a.cross(d) + ((1.0f - twist_cos[size_t(j)]) * a.dot(d)) * a;
     }
     pts[j] = c + d;
   }
@@ -906,7 +951,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
             const int64_t slot = e.centre_slot[size_t(i)];
             const bool tabulated = r_strands.points_in(size_t(e.centres[size_t(slot)])) == common_count;
             apply_clump(e, ramps[first], size_t(i), r_strands, tabulated ? axes.data() + slot * common_count : nullptr,
-                        r_strands.points_for_write(size_t(i)));
+                        r_strands.points_for_write(size_t(i)), scratch);
           }
         } else {
           // The root frames on the posed mesh, computed for the strands some effect moves.

@@ -571,16 +571,9 @@ struct QuadField {
   }
 };
 
-/// Tallies for GrowStats, kept per thread.
-struct GrowCounts {
-  int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0, first_points = 0,
-          first_points_proven = 0;
-};
-
-/// What every strand of one grow() call reads.
+/// What every streamline strand of one grow() call reads.
 struct GrowScene {
   const Binding &binding;
-  const Mesh &mesh;
   const MeshQuery &query;
   const Roots &roots;
   const StrandSet &guides;
@@ -603,7 +596,7 @@ constexpr int max_substeps = 8;
 /// four of them side by side and hands the steps it does not take in lanes back to them.
 struct StreamlineStrand {
   const GrowScene &scene;
-  GrowCounts &counts;
+  GrowStats &counts;
   int64_t root = 0;
   Eigen::Vector3f *points = nullptr;
   float step = 0.0f;  // segment length
@@ -620,7 +613,7 @@ struct StreamlineStrand {
   float nearest = 0.0f;
   bool history = false;
 
-  StreamlineStrand(const GrowScene &scene, GrowCounts &counts)
+  StreamlineStrand(const GrowScene &scene, GrowStats &counts)
       : scene(scene), counts(counts),
         guard(scene.query, scene.binding.settings.skin_margin, scene.scale, scene.skin_grid) {}
 
@@ -1007,7 +1000,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     r_clearance->clear();
     if (streamline) r_clearance->resize(r_strands.positions.size());
   }
-  const GrowScene scene{binding, mesh,  query, roots, guides, frame, clearances, skin_grid, scale, n,
+  const GrowScene scene{binding, query, roots, guides, frame, clearances, skin_grid, scale, n,
                         r_clearance && streamline ? r_clearance->data() : nullptr};
   if (options.with_widths)
     for (size_t r = 0; r < roots.size(); ++r)
@@ -1024,7 +1017,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
                                    first_points_proven)
   {
     RecentOutside recent_outside;  // this thread's last strands' first points
-    GrowCounts counts;
+    GrowStats counts;  // this thread's
     StreamlineStrand strands[4] = {{scene, counts}, {scene, counts}, {scene, counts}, {scene, counts}};
 #pragma omp for schedule(static)
     for (int64_t quad = 0; quad < quad_count; ++quad) {

@@ -290,7 +290,7 @@ void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float>
     load_lanes(pts.data() + j - 1, from);
     load_lanes(pts.data() + j, to);
     for (int a = 0; a < 3; ++a) to[a] -= from[a];
-    const Float4 length = sqrt4(dot_lanes(to, to));
+    const Float4 length = lane_sqrt(dot_lanes(to, to));
     for (size_t l = 0; l < 4; ++l) r_cum[j + l] = r_cum[j + l - 1] + length[l];
   }
   for (; j < n; ++j) r_cum[j] = r_cum[j - 1] + (pts[j] - pts[j - 1]).norm();
@@ -719,11 +719,11 @@ void apply_curl(const EffectStack::Prepared &e, const RampSamples &ramp, int64_t
       v1[a] = q[j + 1][a] - q[j][a];
     }
     const Float4 chord_sq = dot_lanes(chord, chord);
-    const Float4 inverse = 1.0f / sqrt4(chord_sq);
+    const Float4 inverse = 1.0f / lane_sqrt(chord_sq);
     const Int4 nonzero = chord_sq > 0.0f;
     for (int a = 0; a < 3; ++a) tangents[j][a] = nonzero ? chord[a] * inverse : chord[a];
     c1s[j] = dot_lanes(v1, v1);
-    cum[j] = j == 0 ? Float4{} : cum[j - 1] + sqrt4(c1s[j]);
+    cum[j] = j == 0 ? Float4{} : cum[j - 1] + lane_sqrt(c1s[j]);
   }
   // Past 1000 turns along the strand the helix angle would leave the range where sin_cos4 is accurate
   // (|x| < 1e4) and, far beyond, overflow its quadrant integer: such a strand takes each point's

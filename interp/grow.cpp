@@ -298,20 +298,34 @@ void load_quad(const GuideSegment *const segments[4], Int4 index, int quad, Floa
     std::memcpy(&rows[l], reinterpret_cast<const float *>(segments[l] + index[l]) + 4 * quad, sizeof(Float4));
   transpose4(rows, r);
 }
+#ifdef __AVX__
+/// The same for eight lanes: lanes 0-3, then 4-7.
+void load_quad(const GuideSegment *const segments[8], Int8 index, int quad, Float8 r[4]) {
+  Float4 low[4], high[4];
+  load_quad(segments, lane_quad(index, 0), quad, low);
+  load_quad(segments + 4, lane_quad(index, 1), quad, high);
+  for (int c = 0; c < 4; ++c) r[c] = join(low[c], high[c]);
+}
+#endif
 
-/// Guides as the streamline field walks them, four at a time, one per SIMD lane: either four
-/// influencing guides of one strand (StreamlineField) or guide slot s of four strands (QuadField).
+/// Guides as the streamline field walks them, W at a time, one per SIMD lane: either four
+/// influencing guides of one strand (StreamlineField) or guide slots s and s + 1 of four strands
+/// (QuadField, W = 8).
+template <int W>
 struct GuideLanes {
-  const GuideSegment *segments[4];  // the guide's first segment
-  const float *clearances[4];       // the guide's first point's clearance (guide_clearances)
-  Int4 segment_count;  // segment indices along one guide fit 32 bits (the guide's points would not fit memory)
-  Float4 influence;    // scale of the 1/d law
-  Float4 arc_scale;    // guide length / strand length
+  using Float = typename Lanes<W>::Float;
+  using Int = typename Lanes<W>::Int;
+  const GuideSegment *segments[W];  // the guide's first segment
+  const float *clearances[W];       // the guide's first point's clearance (guide_clearances)
+  Int segment_count;  // segment indices along one guide fit 32 bits (the guide's points would not fit memory)
+  Float influence;    // scale of the 1/d law
+  Float arc_scale;    // guide length / strand length
 };
 /// What the field keeps of one evaluation for the next, per lane of a GuideLanes.
+template <int W>
 struct GuideProgress {
-  Int4 segment;  // segment of the guide holding the last closest point
-  Float4 pace;   // the pace term's lambda for the next evaluation (see match_guides)
+  typename Lanes<W>::Int segment;  // segment of the guide holding the last closest point
+  typename Lanes<W>::Float pace;   // the pace term's lambda for the next evaluation (see match_guides)
 };
 
 /// The influencing guides of one strand, four to a group (one guide per lane). Lanes past the last
@@ -320,23 +334,26 @@ struct StreamlineSlots {
   static constexpr int max_groups = (max_guides_per_root + 3) / 4;
   int used = 0;  // guides
   int group_count = 0;
-  GuideLanes groups[max_groups];
-  GuideProgress progress[max_groups];
+  GuideLanes<4> groups[max_groups];
+  GuideProgress<4> progress[max_groups];
 };
 
 /// How far a strand's guide search looks, per lane; it scales with the strand's step.
+template <int W>
 struct SearchWindow {
-  Float4 half_arc;  // half width of the window in guide arc length (lookahead * step / 2)
-  Int4 lookahead;   // and at least this many segments
-  Float4 tie_sq;    // a later segment within this of the best wins (vertex ties go forward)
+  typename Lanes<W>::Float half_arc;  // half width of the window in guide arc length (lookahead * step / 2)
+  typename Lanes<W>::Int lookahead;   // and at least this many segments
+  typename Lanes<W>::Float tie_sq;    // a later segment within this of the best wins (vertex ties go forward)
 };
 
 /// The point match_guides chose on each lane's guide.
+template <int W>
 struct GuideMatch {
-  Float4 distance_sq;
-  Float4 tangent[3];  // the guide's unit tangent there
-  Float4 clearance;   // lower bound of the probe's signed distance to the skin (see match_guides)
-  Float4 weight;      // influence / distance
+  using Float = typename Lanes<W>::Float;
+  Float distance_sq;
+  Float tangent[3];  // the guide's unit tangent there
+  Float clearance;   // lower bound of the probe's signed distance to the skin (see match_guides)
+  Float weight;      // influence / distance
 };
 
 /// On each lane's guide, the closest point to the lane's probe (px, py, pz), at the strand's arc
@@ -353,20 +370,23 @@ struct GuideMatch {
 /// ends are c0 and c1 from the skin, sd(q) >= max(c0 - t, c1 - (L - t)), and sd(p) >= sd(q) - |p - q|
 /// (the ball of that radius round q holds no skin, so p is on q's side). Free, as the search has
 /// found q: growth's skin guard then needs no query for most points away from the root.
-[[gnu::always_inline]] inline GuideMatch match_guides(Float4 px, Float4 py, Float4 pz, Float4 arc,
-                                                      const SearchWindow &window, const GuideLanes &guides,
-                                                      GuideProgress &progress) {
+template <int W>
+[[gnu::always_inline]] inline GuideMatch<W> match_guides(typename Lanes<W>::Float px, typename Lanes<W>::Float py,
+                                                         typename Lanes<W>::Float pz, typename Lanes<W>::Float arc,
+                                                         const SearchWindow<W> &window, const GuideLanes<W> &guides,
+                                                         GuideProgress<W> &progress) {
+  using Float = typename Lanes<W>::Float;
+  using Int = typename Lanes<W>::Int;
   // The window: from the last closest point (never backwards), over the guide arc around where a
   // strand keeping pace with the guide would be (arc * guide length / strand length).
-  const Float4 expected = arc * guides.arc_scale;
-  const Float4 window_low = expected - window.half_arc, window_high = expected + window.half_arc;
-  Int4 start = progress.segment;
+  const Float expected = arc * guides.arc_scale;
+  const Float window_low = expected - window.half_arc, window_high = expected + window.half_arc;
+  Int start = progress.segment;
   for (;;) {
-    const Int4 has_next = start + 1 < guides.segment_count;
-    const Int4 next = start - has_next;
-    const Float4 next_arc = {guides.segments[0][next[0]].arc, guides.segments[1][next[1]].arc,
-                             guides.segments[2][next[2]].arc, guides.segments[3][next[3]].arc};
-    const Int4 advance = has_next & (next_arc <= window_low);
+    const Int has_next = start + 1 < guides.segment_count;
+    const Int next = start - has_next;
+    const Float next_arc = lanes_of<W>([&](int l) { return guides.segments[l][next[l]].arc; });
+    const Int advance = has_next & (next_arc <= window_low);
     if (!any(advance)) break;
     start -= advance;
   }
@@ -378,24 +398,24 @@ struct GuideMatch {
   // convex there, so the chosen point moves smoothly and keeps pace with the strand. Near the
   // guide and along gentle or single sharp bends lambda is 0: plain closest points, as the ratio
   // of distances needs. |p - q| is the previous evaluation's, half a step behind.
-  const Float4 lambda = progress.pace;
-  const Float4 inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float4{} + 1.0f;
+  const Float lambda = progress.pace;
+  const Float inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float{} + 1.0f;
   // Segment j's cost in each lane: its point of least cost (at r_t along it), the squared
   // distance there, the segment's arc, and whether that point lies before the segment's end.
-  auto segment_cost = [&](Int4 j, Float4 &r_t, Float4 &r_distance_sq, Float4 &r_arc, Int4 &r_inner) {
-    Float4 start_arc[4], direction_length[4];
+  auto segment_cost = [&](Int j, Float &r_t, Float &r_distance_sq, Float &r_arc, Int &r_inner) {
+    Float start_arc[4], direction_length[4];
     load_quad(guides.segments, j, 0, start_arc);
     load_quad(guides.segments, j, 1, direction_length);
-    const Float4 &segment_arc = start_arc[3], &length = direction_length[3];
+    const Float &segment_arc = start_arc[3], &length = direction_length[3];
     r_arc = segment_arc;
-    const Float4 ox = px - start_arc[0], oy = py - start_arc[1], oz = pz - start_arc[2];
-    const Float4 dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
-    const Float4 t = (ox * dx + (oy * dy + oz * dz) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda;
-    r_t = t < 0.0f ? Float4{} : (length < t ? length : t);  // std::clamp(t, 0, length)
+    const Float ox = px - start_arc[0], oy = py - start_arc[1], oz = pz - start_arc[2];
+    const Float dx = direction_length[0], dy = direction_length[1], dz = direction_length[2];
+    const Float t = (ox * dx + (oy * dy + oz * dz) + lambda * (expected - segment_arc)) * inverse_one_plus_lambda;
+    r_t = t < 0.0f ? Float{} : (length < t ? length : t);  // std::clamp(t, 0, length)
     r_inner = t < length;
-    const Float4 ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
+    const Float ex = ox - r_t * dx, ey = oy - r_t * dy, ez = oz - r_t * dz;
     r_distance_sq = ex * ex + (ey * ey + ez * ez);
-    const Float4 lag = segment_arc + r_t - expected;
+    const Float lag = segment_arc + r_t - expected;
     return r_distance_sq + lambda * lag * lag;
   };
   // The cost is convex along the guide (the pace term above), so its minimum over each segment
@@ -405,20 +425,20 @@ struct GuideMatch {
   // least cost lies before its end holds the minimum (the cost rises past it): the walk stops
   // there without looking at the next. Usually one segment is looked at instead of the whole
   // window; the lanes walk together while any of them still moves on.
-  const Int4 last = guides.segment_count - 1;
-  Int4 best = start, candidate = start;
-  Float4 best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
-  Int4 inner;
-  Float4 best_cost = segment_cost(start, best_t, best_sq, first_arc, inner);
-  Int4 walking = (best < last) & ~inner;
+  const Int last = guides.segment_count - 1;
+  Int best = start, candidate = start;
+  Float best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
+  Int inner;
+  Float best_cost = segment_cost(start, best_t, best_sq, first_arc, inner);
+  Int walking = (best < last) & ~inner;
   while (any(walking)) {
     // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
     // others; counted apart from `best` so that the next loads need not wait for the costs.
     candidate = candidate < last ? candidate + 1 : candidate;
-    Float4 t, distance_sq, segment_arc;
-    const Float4 cost = segment_cost(candidate, t, distance_sq, segment_arc, inner);
-    const Int4 in_window = (candidate - start < window.lookahead) | ~(segment_arc > window_high);
-    const Int4 take = walking & in_window & ~(cost > best_cost + window.tie_sq);
+    Float t, distance_sq, segment_arc;
+    const Float cost = segment_cost(candidate, t, distance_sq, segment_arc, inner);
+    const Int in_window = (candidate - start < window.lookahead) | ~(segment_arc > window_high);
+    const Int take = walking & in_window & ~(cost > best_cost + window.tie_sq);
     best_cost = take ? cost : best_cost;
     best_sq = take ? distance_sq : best_sq;
     best_t = take ? t : best_t;
@@ -426,29 +446,27 @@ struct GuideMatch {
     walking = take & (best < last) & ~inner;
   }
   progress.segment = best;
-  const Float4 best_distance = sqrt4(best_sq);
-  GuideMatch match;
+  const Float best_distance = lane_sqrt(best_sq);
+  GuideMatch<W> match;
   match.distance_sq = best_sq;
   // The guides' tangents at the chosen points: linear along the segment between its two ends'.
-  Float4 direction_length[4], start_tangent[4], end_tangent[4];
+  Float direction_length[4], start_tangent[4], end_tangent[4];
   load_quad(guides.segments, best, 1, direction_length);
   load_quad(guides.segments, best, 2, start_tangent);
   load_quad(guides.segments, best, 3, end_tangent);
-  const Float4 u = best_t * start_tangent[3];
-  Float4 tangent[3];
+  const Float u = best_t * start_tangent[3];
+  Float tangent[3];
   for (int c = 0; c < 3; ++c) tangent[c] = (1.0f - u) * start_tangent[c] + u * end_tangent[c];
-  const Float4 norm = sqrt4(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
-  const Float4 inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
+  const Float norm = lane_sqrt(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
+  const Float inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
   for (int c = 0; c < 3; ++c) match.tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
-  const Float4 start_clearance = {guides.clearances[0][best[0]], guides.clearances[1][best[1]],
-                                  guides.clearances[2][best[2]], guides.clearances[3][best[3]]};
-  const Float4 end_clearance = {guides.clearances[0][best[0] + 1], guides.clearances[1][best[1] + 1],
-                                guides.clearances[2][best[2] + 1], guides.clearances[3][best[3] + 1]};
-  const Float4 from_start = start_clearance - best_t, from_end = end_clearance - (direction_length[3] - best_t);
+  const Float start_clearance = lanes_of<W>([&](int l) { return guides.clearances[l][best[l]]; });
+  const Float end_clearance = lanes_of<W>([&](int l) { return guides.clearances[l][best[l] + 1]; });
+  const Float from_start = start_clearance - best_t, from_end = end_clearance - (direction_length[3] - best_t);
   match.clearance = (from_start < from_end ? from_end : from_start) - best_distance;
   match.weight = guides.influence / best_distance;
-  const Float4 pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
-  progress.pace = 0.0f < pace ? pace : Float4{};  // std::max(0, pace)
+  const Float pace = 2.0f * end_tangent[3] * best_distance - 0.5f;
+  progress.pace = 0.0f < pace ? pace : Float{};  // std::max(0, pace)
   return match;
 }
 
@@ -462,7 +480,7 @@ struct GuideMatch {
 /// The strand's guides are searched four at once, one per SIMD lane, and the blend adds them up one
 /// by one in slot order, so the result is the same to the bit as a guide-by-guide search.
 struct StreamlineField {
-  SearchWindow window;
+  SearchWindow<4> window;
   float hit_distance_sq;
 
   /// `r_nearest`: the distance to the nearest influencing guide (0 on one); `r_nearest_tangent`: that
@@ -476,8 +494,8 @@ struct StreamlineField {
     Float4 clearance = Float4{} - INFINITY;
     const Float4 px = Float4{} + p.x(), py = Float4{} + p.y(), pz = Float4{} + p.z(), arcs = Float4{} + arc;
     for (int group_index = 0; group_index < slots.group_count; ++group_index) {
-      const GuideLanes &group = slots.groups[group_index];
-      const GuideMatch match = match_guides(px, py, pz, arcs, window, group, slots.progress[group_index]);
+      const GuideLanes<4> &group = slots.groups[group_index];
+      const GuideMatch<4> match = match_guides(px, py, pz, arcs, window, group, slots.progress[group_index]);
       const Float4 &best_sq = match.distance_sq, &weight = match.weight;
       const Float4(&tangent)[3] = match.tangent;
       clearance = clearance < match.clearance ? match.clearance : clearance;
@@ -532,17 +550,37 @@ struct StreamlineField {
   }
 };
 
+/// Guide slots searched side by side in one QuadField group: two where eight-lane vectors are one
+/// register (AVX), so that two slots' chains of loads and compares overlap; one elsewhere (SSE2
+/// would split eight lanes into two registers through memory).
+#ifdef __AVX__
+constexpr int kSlotsPerGroup = 2;
+#else
+constexpr int kSlotsPerGroup = 1;
+#endif
+
 /// The streamline fields of four strands with the same number of guides, one strand per SIMD lane:
-/// slot s holds guide s of each strand. A lane does the strand's own field's float operations in the
-/// same order (StreamlineField adds its guides up in slot order, as the lanes do here), so it gives
-/// that field to the bit, except in a lane where a guide is hit (d ~ 0): that lane is flagged for the
-/// strand's own field, which blends the hit guides alone.
+/// guide slot s of the four strands sits in lanes 4 (s % S) .. 4 (s % S) + 3 of group s / S
+/// (S = kSlotsPerGroup). A lane does the strand's own field's float operations in the same order
+/// (StreamlineField adds its guides up in slot order, as the groups' quarters are added here), so it
+/// gives that field to the bit, except in a lane where a guide is hit (d ~ 0): that lane is flagged
+/// for the strand's own field, which blends the hit guides alone. Past the last guide, a group's
+/// quarters repeat the strands' last guide and are left out.
 struct QuadField {
-  SearchWindow window;
+  static constexpr int W = 4 * kSlotsPerGroup;
+  using Float = Lanes<W>::Float;
+  using Int = Lanes<W>::Int;
+  static constexpr int max_groups = (max_guides_per_root + kSlotsPerGroup - 1) / kSlotsPerGroup;
+  SearchWindow<W> window;  // the four strands' windows, repeated
   Float4 hit_distance_sq;
   int used = 0;
-  GuideLanes slots[max_guides_per_root];
-  GuideProgress progress[max_guides_per_root];
+  int group_count = 0;
+  GuideLanes<W> groups[max_groups];
+  GuideProgress<W> progress[max_groups];
+
+  /// Guide slot s of strand l: its group and its lane there.
+  static int group_of(int s) { return s / kSlotsPerGroup; }
+  static int lane_of(int s, int l) { return 4 * (s % kSlotsPerGroup) + l; }
 
   /// At p[c][l] (component c of lane l's point), at the lanes' arc lengths `arc`: the unit directions
   /// (`fallback` where the blend vanishes), the distances to the nearest influencing guides, the
@@ -552,19 +590,25 @@ struct QuadField {
     Float4 blend[3] = {Float4{}, Float4{}, Float4{}}, weight_sum = Float4{};
     Float4 nearest_sq = Float4{} + INFINITY, clearance = Float4{} - INFINITY;
     Int4 hit = Int4{};
-    for (int s = 0; s < used; ++s) {
-      const GuideMatch match = match_guides(p[0], p[1], p[2], arc, window, slots[s], progress[s]);
-      clearance = clearance < match.clearance ? match.clearance : clearance;
-      hit |= match.distance_sq <= hit_distance_sq;
-      const Float4 counted = slots[s].influence > 0.0f ? match.distance_sq : Float4{} + INFINITY;
-      nearest_sq = counted < nearest_sq ? counted : nearest_sq;
-      for (int c = 0; c < 3; ++c) blend[c] += match.weight * match.tangent[c];
-      weight_sum += match.weight;
+    const Float px = repeat_lanes<W>(p[0]), py = repeat_lanes<W>(p[1]), pz = repeat_lanes<W>(p[2]);
+    const Float arcs = repeat_lanes<W>(arc);
+    for (int group = 0; group < group_count; ++group) {
+      const GuideMatch<W> match = match_guides(px, py, pz, arcs, window, groups[group], progress[group]);
+      for (int q = 0; q < kSlotsPerGroup && kSlotsPerGroup * group + q < used; ++q) {
+        const Float4 distance_sq = lane_quad(match.distance_sq, q), weight = lane_quad(match.weight, q);
+        const Float4 slot_clearance = lane_quad(match.clearance, q);
+        clearance = clearance < slot_clearance ? slot_clearance : clearance;
+        hit |= distance_sq <= hit_distance_sq;
+        const Float4 counted = lane_quad(groups[group].influence, q) > 0.0f ? distance_sq : Float4{} + INFINITY;
+        nearest_sq = counted < nearest_sq ? counted : nearest_sq;
+        for (int c = 0; c < 3; ++c) blend[c] += weight * lane_quad(match.tangent[c], q);
+        weight_sum += weight;
+      }
     }
-    r_nearest = sqrt4(nearest_sq);
+    r_nearest = lane_sqrt(nearest_sq);
     r_clearance = clearance;
     r_hit = hit;
-    const Float4 norm = sqrt4(blend[0] * blend[0] + (blend[1] * blend[1] + blend[2] * blend[2]));
+    const Float4 norm = lane_sqrt(blend[0] * blend[0] + (blend[1] * blend[1] + blend[2] * blend[2]));
     const Float4 inverse_norm = 1.0f / norm;
     const Int4 defined = (norm > 1e-6f * weight_sum) & (norm > 0.0f);
     for (int c = 0; c < 3; ++c) r_direction[c] = defined ? blend[c] * inverse_norm : fallback[c];
@@ -678,8 +722,8 @@ struct StreamlineStrand {
       const size_t g = size_t(root_slots[s].guide);
       const int64_t first = frame.segment_offsets[g], last = frame.segment_offsets[g + 1] - 1;
       const float guide_length = frame.segments[size_t(last)].arc + frame.segments[size_t(last)].length;
-      GuideLanes &group = slots.groups[lane / 4];
-      GuideProgress &progress = slots.progress[lane / 4];
+      GuideLanes<4> &group = slots.groups[lane / 4];
+      GuideProgress<4> &progress = slots.progress[lane / 4];
       const int l = lane % 4;
       group.segments[l] = frame.segments.data() + first;
       group.clearances[l] = scene.clearances.data() + scene.guides.offsets[g];
@@ -733,7 +777,7 @@ struct StreamlineStrand {
       const Eigen::Vector3f start_direction = unit_or(1.5f * last_middle - 0.5f * previous_middle, last_middle);
       const Eigen::Vector3f middle = points[i] + (0.5f * step) * start_direction;
       float middle_nearest = 0.0f;
-      GuideProgress saved[StreamlineSlots::max_groups];
+      GuideProgress<4> saved[StreamlineSlots::max_groups];
       std::copy(slots.progress, slots.progress + slots.group_count, saved);
       const Eigen::Vector3f middle_direction =
           evaluate(middle, (float(i) + 0.5f) * step, start_direction, &middle_nearest);
@@ -799,21 +843,26 @@ class StrandQuad {
       strands_[l] = strands[l];
       const StreamlineStrand &strand = *strands[l];
       step_[l] = strand.step;
-      field_.window.half_arc[l] = strand.field.window.half_arc[0];
-      field_.window.lookahead[l] = strand.field.window.lookahead[0];
-      field_.window.tie_sq[l] = strand.field.window.tie_sq[0];
+      for (int lane = l; lane < QuadField::W; lane += 4) {
+        field_.window.half_arc[lane] = strand.field.window.half_arc[0];
+        field_.window.lookahead[lane] = strand.field.window.lookahead[0];
+        field_.window.tie_sq[lane] = strand.field.window.tie_sq[0];
+      }
       field_.hit_distance_sq[l] = strand.field.hit_distance_sq;
     }
     field_.used = strands[0]->slots.used;
-    for (int s = 0; s < field_.used; ++s)
+    field_.group_count = (field_.used + kSlotsPerGroup - 1) / kSlotsPerGroup;
+    for (int s = 0; s < kSlotsPerGroup * field_.group_count; ++s)
       for (int l = 0; l < 4; ++l) {
-        const GuideLanes &group = strands[l]->slots.groups[s / 4];
-        GuideLanes &slot = field_.slots[s];
-        slot.segments[l] = group.segments[s % 4];
-        slot.clearances[l] = group.clearances[s % 4];
-        slot.segment_count[l] = group.segment_count[s % 4];
-        slot.influence[l] = group.influence[s % 4];
-        slot.arc_scale[l] = group.arc_scale[s % 4];
+        const int source = std::min(s, field_.used - 1);
+        const GuideLanes<4> &slots = strands[l]->slots.groups[source / 4];
+        GuideLanes<QuadField::W> &group = field_.groups[QuadField::group_of(s)];
+        const int lane = QuadField::lane_of(s, l);
+        group.segments[lane] = slots.segments[source % 4];
+        group.clearances[lane] = slots.clearances[source % 4];
+        group.segment_count[lane] = slots.segment_count[source % 4];
+        group.influence[lane] = slots.influence[source % 4];
+        group.arc_scale[lane] = slots.arc_scale[source % 4];
       }
     for (int l = 0; l < 4; ++l) take_back(l, 1);
   }
@@ -836,15 +885,15 @@ class StrandQuad {
     const Float4 smooth = near ? Float4{} + kNearSmoothTurning : Float4{} + kSmoothTurning;
     Float4 extrapolated[3], start_direction[3], middle[3];
     for (int c = 0; c < 3; ++c) extrapolated[c] = 1.5f * last_middle_[c] - 0.5f * previous_middle_[c];
-    const Float4 extrapolated_norm = sqrt4(extrapolated[0] * extrapolated[0] +
+    const Float4 extrapolated_norm = lane_sqrt(extrapolated[0] * extrapolated[0] +
                                            (extrapolated[1] * extrapolated[1] + extrapolated[2] * extrapolated[2]));
     const Float4 inverse_norm = 1.0f / extrapolated_norm;
     for (int c = 0; c < 3; ++c) {
       start_direction[c] = extrapolated_norm > 1e-20f ? extrapolated[c] * inverse_norm : last_middle_[c];
       middle[c] = point_[c] + (0.5f * step_) * start_direction[c];
     }
-    GuideProgress saved[max_guides_per_root];
-    std::copy(field_.progress, field_.progress + field_.used, saved);
+    GuideProgress<QuadField::W> saved[QuadField::max_groups];
+    std::copy(field_.progress, field_.progress + field_.group_count, saved);
     Float4 middle_direction[3], middle_nearest, middle_clearance;
     Int4 hit;
     field_(middle, (float(i) + 0.5f) * step_, start_direction, middle_direction, middle_nearest, middle_clearance, hit);
@@ -866,15 +915,17 @@ class StrandQuad {
       from_known[c] = to[c] - known_point;
     }
     const Float4 guided =
-        middle_clearance - sqrt4(from_middle[0] * from_middle[0] + (from_middle[1] * from_middle[1] + from_middle[2] * from_middle[2]));
+        middle_clearance - lane_sqrt(from_middle[0] * from_middle[0] + (from_middle[1] * from_middle[1] + from_middle[2] * from_middle[2]));
     const Float4 known_bound =
-        known_distance - sqrt4(from_known[0] * from_known[0] + (from_known[1] * from_known[1] + from_known[2] * from_known[2]));
+        known_distance - lane_sqrt(from_known[0] * from_known[0] + (from_known[1] * from_known[1] + from_known[2] * from_known[2]));
     const Int4 guided_outside = (guided >= margin) & (guided > known_bound);
-    if (any(~predicted))
-      for (int s = 0; s < field_.used; ++s) {
-        field_.progress[s].segment = predicted ? field_.progress[s].segment : saved[s].segment;
-        field_.progress[s].pace = predicted ? field_.progress[s].pace : saved[s].pace;
+    if (any(~predicted)) {
+      const QuadField::Int kept = repeat_lanes<QuadField::W>(predicted);
+      for (int group = 0; group < field_.group_count; ++group) {
+        field_.progress[group].segment = kept ? field_.progress[group].segment : saved[group].segment;
+        field_.progress[group].pace = kept ? field_.progress[group].pace : saved[group].pace;
       }
+    }
     nearest_ = predicted ? middle_nearest : nearest_;
     for (int c = 0; c < 3; ++c) {
       previous_middle_[c] = predicted ? last_middle_[c] : previous_middle_[c];
@@ -924,8 +975,9 @@ class StrandQuad {
     StreamlineSlots &slots = strand.slots;
     for (int lane = 0; lane < 4 * slots.group_count; ++lane) {
       const int s = lane < slots.used ? lane : lane & ~3;
-      slots.progress[lane / 4].segment[lane % 4] = field_.progress[s].segment[l];
-      slots.progress[lane / 4].pace[lane % 4] = field_.progress[s].pace[l];
+      const GuideProgress<QuadField::W> &progress = field_.progress[QuadField::group_of(s)];
+      slots.progress[lane / 4].segment[lane % 4] = progress.segment[QuadField::lane_of(s, l)];
+      slots.progress[lane / 4].pace[lane % 4] = progress.pace[QuadField::lane_of(s, l)];
     }
   }
   /// Strand l's state, at point i, to lane l.
@@ -938,9 +990,11 @@ class StrandQuad {
     }
     nearest_[l] = strand.nearest;
     history_[l] = strand.history ? -1 : 0;
-    for (int s = 0; s < field_.used; ++s) {
-      field_.progress[s].segment[l] = strand.slots.progress[s / 4].segment[s % 4];
-      field_.progress[s].pace[l] = strand.slots.progress[s / 4].pace[s % 4];
+    for (int s = 0; s < kSlotsPerGroup * field_.group_count; ++s) {
+      const int source = std::min(s, field_.used - 1);
+      GuideProgress<QuadField::W> &progress = field_.progress[QuadField::group_of(s)];
+      progress.segment[QuadField::lane_of(s, l)] = strand.slots.progress[source / 4].segment[source % 4];
+      progress.pace[QuadField::lane_of(s, l)] = strand.slots.progress[source / 4].pace[source % 4];
     }
   }
 

@@ -1,5 +1,6 @@
 // Four-lane float and int vectors (GCC vector extensions: SSE2 on x86-64, the target's own SIMD
-// elsewhere) and the few lane-wise functions interp/ needs. Internal to interp/.
+// elsewhere), eight-lane ones where the build targets AVX (one register), and the few lane-wise
+// functions interp/ needs. Code written once for W lanes reads Lanes<W>. Internal to interp/.
 #pragma once
 
 #include <cmath>
@@ -7,14 +8,43 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
 
 namespace plume::interp {
 
 typedef float Float4 __attribute__((vector_size(16)));
 typedef int32_t Int4 __attribute__((vector_size(16)));
 
+/// The float and int vectors of W lanes.
+template <int W>
+struct Lanes;
+template <>
+struct Lanes<4> {
+  using Float = Float4;
+  using Int = Int4;
+};
+
+/// Lanes 4q .. 4q + 3 (here all four).
+inline Float4 lane_quad(Float4 v, int) { return v; }
+inline Int4 lane_quad(Int4 v, int) { return v; }
+/// Four lanes repeated to fill W.
+template <int W>
+typename Lanes<W>::Float repeat_lanes(Float4 v);
+template <int W>
+typename Lanes<W>::Int repeat_lanes(Int4 v);
+template <>
+inline Float4 repeat_lanes<4>(Float4 v) {
+  return v;
+}
+template <>
+inline Int4 repeat_lanes<4>(Int4 v) {
+  return v;
+}
+
 /// Square root of each lane (correctly rounded, as std::sqrt).
-inline Float4 sqrt4(Float4 v) {
+inline Float4 lane_sqrt(Float4 v) {
 #ifdef __SSE2__
   return _mm_sqrt_ps(v);
 #else
@@ -34,6 +64,47 @@ inline int lane_bits(Int4 mask) {
 
 /// Whether any lane of a comparison is true.
 inline bool any(Int4 mask) { return lane_bits(mask) != 0; }
+
+#ifdef __AVX__
+// Eight lanes: only where they are one register. Without AVX, GCC splits them through memory,
+// slower than four lanes.
+typedef float Float8 __attribute__((vector_size(32)));
+typedef int32_t Int8 __attribute__((vector_size(32)));
+template <>
+struct Lanes<8> {
+  using Float = Float8;
+  using Int = Int8;
+};
+inline Float4 lane_quad(Float8 v, int q) {
+  return q == 0 ? __builtin_shufflevector(v, v, 0, 1, 2, 3) : __builtin_shufflevector(v, v, 4, 5, 6, 7);
+}
+inline Int4 lane_quad(Int8 v, int q) {
+  return q == 0 ? __builtin_shufflevector(v, v, 0, 1, 2, 3) : __builtin_shufflevector(v, v, 4, 5, 6, 7);
+}
+/// The eight lanes of two four-lane vectors.
+inline Float8 join(Float4 low, Float4 high) { return __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7); }
+inline Int8 join(Int4 low, Int4 high) { return __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7); }
+template <>
+inline Float8 repeat_lanes<8>(Float4 v) {
+  return join(v, v);
+}
+template <>
+inline Int8 repeat_lanes<8>(Int4 v) {
+  return join(v, v);
+}
+inline Float8 lane_sqrt(Float8 v) { return _mm256_sqrt_ps(v); }
+inline int lane_bits(Int8 mask) { return _mm256_movemask_ps(_mm256_castsi256_ps(__m256i(mask))); }
+inline bool any(Int8 mask) { return lane_bits(mask) != 0; }
+#endif
+
+/// The vector of W lanes whose lane l is value(l).
+template <int W, class Value>
+[[gnu::always_inline]] inline typename Lanes<W>::Float lanes_of(Value &&value) {
+  if constexpr (W == 4)
+    return typename Lanes<W>::Float{value(0), value(1), value(2), value(3)};
+  else
+    return typename Lanes<W>::Float{value(0), value(1), value(2), value(3), value(4), value(5), value(6), value(7)};
+}
 
 /// The 4 x 4 transpose: r[c][l] = rows[l][c] (four records of four floats turned into lanes).
 inline void transpose4(const Float4 rows[4], Float4 r[4]) {

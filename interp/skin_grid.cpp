@@ -339,7 +339,7 @@ inline int SkinGrid::may_be_within(const CellBlock &block, Float4 px, Float4 py,
   const Float4 slack = 1e-6f * offset_sq;  // about ten roundings of the squares below
   const Float4 height_sq = height * height - slack;
   const Float4 beside_sq = offset_sq - height * height - slack;
-  const Float4 beside = sqrt4(beside_sq > 0.0f ? beside_sq : Float4{}) - block.radius;
+  const Float4 beside = lane_sqrt(beside_sq > 0.0f ? beside_sq : Float4{}) - block.radius;
   const Float4 lower_sq = (height_sq > 0.0f ? height_sq : Float4{}) + (beside > 0.0f ? beside * beside : Float4{});
   // Comparisons with a padding lane's infinite offsets are false (NaN) or reject it.
   return lane_bits(~(offset_sq > far * far) & (lower_sq <= reach * reach) & (block.triangle >= 0));

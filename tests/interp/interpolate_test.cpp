@@ -201,8 +201,8 @@ TEST_CASE("the thread count does not change binding or strands", "[interp]") {
 TEST_CASE("a streamline strand is the same to the bit whichever strands are grown with it", "[interp]") {
   // A strand must not depend on the strands grown in the same call (their order, their count, what
   // a thread grows before it): gentle arcs and tight curls (where the pace term acts), guides of
-  // several lengths (so neighbours step differently), and k = 6: a full and a partial group of four
-  // guides.
+  // several lengths (so neighbours step differently), and k = 5 and 6: a full and a partial group of
+  // four guides, and (where growth searches two guide slots side by side) an odd last slot.
   const auto helix = [](int i) {
     const float radius = 0.04f, rise = 0.02f, phase = 0.5f * float(i);
     return std::function<Eigen::Vector3f(float)>([=](float s) {
@@ -215,7 +215,7 @@ TEST_CASE("a streamline strand is the same to the bit whichever strands are grow
                       [](int i) { return 0.5f + 0.1f * float(i % 4); }, 41);
   const CapScene curls(helix, 64, [](int i) { return 0.8f + 0.1f * float(i % 4); }, 41, true);
   for (const CapScene *scene : {&arcs, &curls})
-    for (const int k : {4, 6}) {
+    for (const int k : {4, 5, 6}) {
       const InterpolationSettings settings = settings_for(Method::streamline, k);
       const interp::Binding binding = interp::bind(scene->mesh, scene->guides, scene->roots, settings);
       const StrandSet all = grow_all(binding, scene->mesh, scene->query, scene->roots, scene->guides.strands);

@@ -18,14 +18,18 @@ void StrandSet::append(std::span<const Eigen::Vector3f> points_of, uint64_t id,
   ids.push_back(id);
 }
 
-void StrandSet::resize_uniform(size_t strand_count, int points_per_strand, bool with_widths) {
+void StrandSet::resize_uniform(size_t strand_count, int points_per_strand, bool with_widths, Fill fill) {
   offsets.resize(strand_count + 1);
   for (size_t i = 0; i <= strand_count; ++i) offsets[i] = int64_t(i) * points_per_strand;
-  positions.assign(strand_count * size_t(points_per_strand), Eigen::Vector3f::Zero());
-  if (with_widths)
-    widths.assign(positions.size(), 0.0f);
-  else
-    widths.clear();
+  const size_t point_count = strand_count * size_t(points_per_strand);
+  if (fill == Fill::zeros) {
+    positions.assign(point_count, Eigen::Vector3f::Zero());
+    widths.assign(with_widths ? point_count : 0, 0.0f);
+  } else {
+    positions.resize(point_count);  // Eigen's vectors are not initialised: no pass over the memory
+    widths.resize(with_widths ? point_count : 0);
+  }
+  if (!with_widths) widths.clear();
   ids.resize(strand_count);
   for (size_t i = 0; i < strand_count; ++i) ids[i] = i;
 }

@@ -33,8 +33,11 @@ struct StrandSet {
   /// Appends one strand; widths_of may be empty only if this set has no widths.
   void append(std::span<const Eigen::Vector3f> points_of, uint64_t id,
               std::span<const float> widths_of = {});
-  /// Sets `strand_count` strands of `points_per_strand` points each, zeroed, ids 0..n-1.
-  void resize_uniform(size_t strand_count, int points_per_strand, bool with_widths);
+  /// What resize_uniform leaves in the points and widths: zeros, or whatever was there (for a caller
+  /// that writes every one).
+  enum class Fill { zeros, unset };
+  /// Sets `strand_count` strands of `points_per_strand` points each, ids 0..n-1.
+  void resize_uniform(size_t strand_count, int points_per_strand, bool with_widths, Fill fill = Fill::zeros);
   /// Sum of segment lengths of one strand.
   double length(size_t strand) const;
   /// Throws InternalError when an invariant is broken (offsets, sizes, non-finite values).

@@ -1048,7 +1048,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const SkinGrid *const skin_grid = streamline ? (shared_skin_grid ? shared_skin_grid : own_skin_grid.get()) : nullptr;
   const std::vector<float> clearances = streamline ? guide_clearances(guides, binding.guide_roots, query, *skin_grid) : std::vector<float>();
 
-  r_strands.resize_uniform(roots.size(), n, options.with_widths);
+  r_strands.resize_uniform(roots.size(), n, options.with_widths, StrandSet::Fill::unset);  // all written below
   r_strands.ids = roots.ids;
   if (r_clearance) {
     r_clearance->clear();
@@ -1168,8 +1168,11 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
 
   if (options.r_stats)
     *options.r_stats = {steps, predicted_steps, substepped_steps, evaluations, first_points, first_points_proven};
-  for (const Eigen::Vector3f &p : r_strands.positions)
-    if (!p.allFinite()) throw InternalError("grow: a strand point is not finite");
+  bool finite = true;
+  const int64_t point_count = int64_t(r_strands.positions.size());
+#pragma omp parallel for reduction(&& : finite)
+  for (int64_t i = 0; i < point_count; ++i) finite = r_strands.positions[size_t(i)].allFinite() && finite;
+  if (!finite) throw InternalError("grow: a strand point is not finite");
 }
 
 }  // namespace plume::interp

@@ -1056,19 +1056,14 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   }
   const GrowScene scene{binding, query, roots, guides, frame, clearances, skin_grid, scale, n,
                         r_clearance && streamline ? r_clearance->data() : nullptr};
-  if (options.with_widths)
-    for (size_t r = 0; r < roots.size(); ++r)
-      for (int i = 0; i < n; ++i)
-        r_strands.widths[r * size_t(n) + size_t(i)] =
-            options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
-
   // Roots are taken four at a time, so that streamline strands can grow side by side (StrandQuad).
   const int64_t root_count = int64_t(roots.size());
   const int64_t quad_count = (root_count + 3) / 4;
   int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0, first_points = 0,
           first_points_proven = 0;
+  bool finite = true;
 #pragma omp parallel reduction(+ : steps, predicted_steps, substepped_steps, evaluations, first_points, \
-                                   first_points_proven)
+                                   first_points_proven) reduction(&& : finite)
   {
     RecentOutside recent_outside;  // this thread's last strands' first points
     GrowStats counts;  // this thread's
@@ -1146,17 +1141,26 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
 
         strands[r - first_root].begin(r, points, slots, used, root_frame, recent_outside);
       }
-      if (!streamline) continue;
-      const int strand_count = int(end_root - first_root);
-      bool side_by_side = strand_count == 4;
-      for (int j = 1; j < strand_count; ++j) side_by_side &= strands[j].slots.used == strands[0].slots.used;
-      if (side_by_side) {
-        StreamlineStrand *const quad_strands[4] = {&strands[0], &strands[1], &strands[2], &strands[3]};
-        StrandQuad(quad_strands).grow(n);
-      } else {
-        for (int j = 0; j < strand_count; ++j)
-          for (int i = 1; i + 1 < n; ++i) strands[j].step_from(i);
+      if (streamline) {
+        const int strand_count = int(end_root - first_root);
+        bool side_by_side = strand_count == 4;
+        for (int j = 1; j < strand_count; ++j) side_by_side &= strands[j].slots.used == strands[0].slots.used;
+        if (side_by_side) {
+          StreamlineStrand *const quad_strands[4] = {&strands[0], &strands[1], &strands[2], &strands[3]};
+          StrandQuad(quad_strands).grow(n);
+        } else {
+          for (int j = 0; j < strand_count; ++j)
+            for (int i = 1; i + 1 < n; ++i) strands[j].step_from(i);
+        }
       }
+      // The four strands' points, while they are in cache: finite, and their widths.
+      for (int64_t i = first_root * n; i < end_root * n; ++i)
+        finite = r_strands.positions[size_t(i)].allFinite() && finite;
+      if (options.with_widths)
+        for (int64_t r = first_root; r < end_root; ++r)
+          for (int i = 0; i < n; ++i)
+            r_strands.widths[size_t(r * n + i)] =
+                options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
     }
     steps += counts.steps;
     predicted_steps += counts.predicted_steps;
@@ -1168,10 +1172,6 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
 
   if (options.r_stats)
     *options.r_stats = {steps, predicted_steps, substepped_steps, evaluations, first_points, first_points_proven};
-  bool finite = true;
-  const int64_t point_count = int64_t(r_strands.positions.size());
-#pragma omp parallel for reduction(&& : finite)
-  for (int64_t i = 0; i < point_count; ++i) finite = r_strands.positions[size_t(i)].allFinite() && finite;
   if (!finite) throw InternalError("grow: a strand point is not finite");
 }
 

@@ -277,7 +277,6 @@ Float4 load_lane(const float *f) {
 }
 
 /// Dot products lane by lane, added x + (y + z) as Eigen's dot() of a Vector3f adds them.
-Float4 dot_lanes(const Float4 u[3], const Float4 v[3]) { return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]); }
 
 /// Arc length at each point of a polyline (r_cum[0] = 0), the segment lengths four at a time.
 void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float> &r_cum) {
@@ -634,7 +633,7 @@ void apply_noise(const EffectStack::Prepared &e, const RampSamples &ramp, size_t
   }
   // A matrix times a vector, lane by lane, each row added as Eigen adds a Vector3f product's.
   auto times = [](const Float4 m[3][3], const Float4 v[3], Float4 r_product[3]) {
-    for (int r = 0; r < 3; ++r) r_product[r] = m[r][0] * v[0] + (m[r][1] * v[1] + m[r][2] * v[2]);
+    for (int r = 0; r < 3; ++r) r_product[r] = dot_lanes(m[r], v);
   };
   // Four points at a time (SIMD lanes); lanes past the tip repeat the tip and are not written.
   const Eigen::Vector3f *q = padded_copy(pts, scratch);

@@ -457,7 +457,7 @@ template <int W>
   const Float u = best_t * start_tangent[3];
   Float tangent[3];
   for (int c = 0; c < 3; ++c) tangent[c] = (1.0f - u) * start_tangent[c] + u * end_tangent[c];
-  const Float norm = lane_sqrt(tangent[0] * tangent[0] + (tangent[1] * tangent[1] + tangent[2] * tangent[2]));
+  const Float norm = lane_sqrt(dot_lanes(tangent, tangent));
   const Float inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
   for (int c = 0; c < 3; ++c) match.tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
   const Float start_clearance = lanes_of<W>([&](int l) { return guides.clearances[l][best[l]]; });
@@ -608,7 +608,7 @@ struct QuadField {
     r_nearest = lane_sqrt(nearest_sq);
     r_clearance = clearance;
     r_hit = hit;
-    const Float4 norm = lane_sqrt(blend[0] * blend[0] + (blend[1] * blend[1] + blend[2] * blend[2]));
+    const Float4 norm = lane_sqrt(dot_lanes(blend, blend));
     const Float4 inverse_norm = 1.0f / norm;
     const Int4 defined = (norm > 1e-6f * weight_sum) & (norm > 0.0f);
     for (int c = 0; c < 3; ++c) r_direction[c] = defined ? blend[c] * inverse_norm : fallback[c];
@@ -885,8 +885,7 @@ class StrandQuad {
     const Float4 smooth = near ? Float4{} + kNearSmoothTurning : Float4{} + kSmoothTurning;
     Float4 extrapolated[3], start_direction[3], middle[3];
     for (int c = 0; c < 3; ++c) extrapolated[c] = 1.5f * last_middle_[c] - 0.5f * previous_middle_[c];
-    const Float4 extrapolated_norm = lane_sqrt(extrapolated[0] * extrapolated[0] +
-                                           (extrapolated[1] * extrapolated[1] + extrapolated[2] * extrapolated[2]));
+    const Float4 extrapolated_norm = lane_sqrt(dot_lanes(extrapolated, extrapolated));
     const Float4 inverse_norm = 1.0f / extrapolated_norm;
     for (int c = 0; c < 3; ++c) {
       start_direction[c] = extrapolated_norm > 1e-20f ? extrapolated[c] * inverse_norm : last_middle_[c];
@@ -899,7 +898,7 @@ class StrandQuad {
     field_(middle, (float(i) + 0.5f) * step_, start_direction, middle_direction, middle_nearest, middle_clearance, hit);
     Float4 turn[3];
     for (int c = 0; c < 3; ++c) turn[c] = middle_direction[c] - 2.0f * last_middle_[c] + previous_middle_[c];
-    const Int4 smooth_enough = turn[0] * turn[0] + (turn[1] * turn[1] + turn[2] * turn[2]) <= smooth * smooth;
+    const Int4 smooth_enough = dot_lanes(turn, turn) <= smooth * smooth;
     const Int4 predicted = history_ & ~hit & smooth_enough;
     // StreamlineStrand::advance, in lanes, up to the guard's own checks.
     const SkinGuard *const guards[4] = {&strands_[0]->guard, &strands_[1]->guard, &strands_[2]->guard,
@@ -914,10 +913,8 @@ class StrandQuad {
       from_middle[c] = to[c] - middle[c];
       from_known[c] = to[c] - known_point;
     }
-    const Float4 guided =
-        middle_clearance - lane_sqrt(from_middle[0] * from_middle[0] + (from_middle[1] * from_middle[1] + from_middle[2] * from_middle[2]));
-    const Float4 known_bound =
-        known_distance - lane_sqrt(from_known[0] * from_known[0] + (from_known[1] * from_known[1] + from_known[2] * from_known[2]));
+    const Float4 guided = middle_clearance - lane_sqrt(dot_lanes(from_middle, from_middle));
+    const Float4 known_bound = known_distance - lane_sqrt(dot_lanes(from_known, from_known));
     const Int4 guided_outside = (guided >= margin) & (guided > known_bound);
     if (any(~predicted)) {
       const QuadField::Int kept = repeat_lanes<QuadField::W>(predicted);

@@ -97,6 +97,13 @@ inline int lane_bits(Int8 mask) { return _mm256_movemask_ps(_mm256_castsi256_ps(
 inline bool any(Int8 mask) { return lane_bits(mask) != 0; }
 #endif
 
+/// Lane-wise dot product of two 3-vectors given by components (u[c] holds component c of every
+/// lane), added x + (y + z) as Eigen's dot products and norms are, so that a lane gives Eigen's bits.
+template <class Float>
+inline Float dot_lanes(const Float u[3], const Float v[3]) {
+  return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]);
+}
+
 /// The vector of W lanes whose lane l is value(l).
 template <int W, class Value>
 [[gnu::always_inline]] inline typename Lanes<W>::Float lanes_of(Value &&value) {

@@ -382,7 +382,6 @@ void SkinGrid::closest_in_block(const CellBlock &cell_block, Float4 px, Float4 p
   // closest_on_triangle's operations lane by lane, every region's answer computed and the first
   // whose condition holds kept, in the order of its tests (dot products add x + (y + z), as Eigen).
   const Float4 p[3] = {px, py, pz};
-  auto dot = [](const Float4 u[3], const Float4 v[3]) { return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]); };
   Float4 ab[3], ac[3], ap[3], bp[3], cp[3];
   for (int a = 0; a < 3; ++a) {
     ab[a] = block.corner[1][a] - block.corner[0][a];
@@ -391,8 +390,8 @@ void SkinGrid::closest_in_block(const CellBlock &cell_block, Float4 px, Float4 p
     bp[a] = p[a] - block.corner[1][a];
     cp[a] = p[a] - block.corner[2][a];
   }
-  const Float4 d1 = dot(ab, ap), d2 = dot(ac, ap), d3 = dot(ab, bp), d4 = dot(ac, bp), d5 = dot(ab, cp),
-               d6 = dot(ac, cp);
+  const Float4 d1 = dot_lanes(ab, ap), d2 = dot_lanes(ac, ap), d3 = dot_lanes(ab, bp), d4 = dot_lanes(ac, bp),
+               d5 = dot_lanes(ab, cp), d6 = dot_lanes(ac, cp);
   const Float4 vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
   const Float4 zero{}, one = zero + 1.0f;
   // Inside the face (the last case), then each earlier case over it, from the last test back.
@@ -420,7 +419,7 @@ void SkinGrid::closest_in_block(const CellBlock &cell_block, Float4 px, Float4 p
   Float4 offset[3];
   for (int a = 0; a < 3; ++a)
     offset[a] = p[a] - ((u * block.corner[0][a] + v * block.corner[1][a]) + w * block.corner[2][a]);
-  r_distance_sq = offset[0] * offset[0] + (offset[1] * offset[1] + offset[2] * offset[2]);
+  r_distance_sq = dot_lanes(offset, offset);
 }
 
 template <class Visit>

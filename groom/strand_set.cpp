@@ -29,7 +29,6 @@ void StrandSet::resize_uniform(size_t strand_count, int points_per_strand, bool 
     positions.resize(point_count);  // Eigen's vectors are not initialised: no pass over the memory
     widths.resize(with_widths ? point_count : 0);
   }
-  if (!with_widths) widths.clear();
   ids.resize(strand_count);
   for (size_t i = 0; i < strand_count; ++i) ids[i] = i;
 }

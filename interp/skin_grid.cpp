@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <numeric>
 
 namespace plume::interp {
@@ -134,8 +135,7 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
       const float norm = normal.norm();
       // A triangle too thin for a normal gets none: the disc test is then the sphere test.
       return Listed{centre, norm > 0.0f ? Eigen::Vector3f(normal / norm) : Eigen::Vector3f::Zero(),
-                    std::sqrt(radius_sq),
-                    int32_t(f)};
+                    std::sqrt(radius_sq), int32_t(f)};
     };
     std::vector<int32_t> listed_offsets(cell_count + 1, 0);
     std::vector<Listed> listed;
@@ -262,14 +262,26 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
             for (int x = first_cell.x(); x <= last_cell.x(); ++x) near_open_edge_[cell_index(x, y, z)] = 1;
       }
   };
-  // The two parts are independent: they run side by side (a frame's grid is built before its strands grow).
+  // The two parts are independent: they run side by side (a frame's grid is built before its strands
+  // grow). An exception inside the parallel region would end the program: it is kept and thrown after.
+  std::exception_ptr failure[2];
 #pragma omp parallel sections num_threads(2)
   {
 #pragma omp section
-    list_triangles();
+    try {
+      list_triangles();
+    } catch (...) {
+      failure[0] = std::current_exception();
+    }
 #pragma omp section
-    flag_open_edges();
+    try {
+      flag_open_edges();
+    } catch (...) {
+      failure[1] = std::current_exception();
+    }
   }
+  for (const std::exception_ptr &error : failure)
+    if (error) std::rethrow_exception(error);
 }
 
 float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {

@@ -1,6 +1,9 @@
 #include "groom/mesh.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <utility>
 
 #include "groom/error.h"
 #include "groom/limits.h"
@@ -71,6 +74,42 @@ void Mesh::validate(const std::string &source) const {
         if (t[k] < 0 || t[k] >= int(uvs.size())) throw InputError(FileLoc{source}, "mesh: uv index out of range");
   }
   if (triangle_groups.size() != triangles.size()) throw InternalError("mesh: one group per triangle expected");
+}
+
+std::vector<uint32_t> welded_vertices(const Mesh &mesh, double weld) {
+  weld = std::max(weld, 1e-30);
+  std::vector<uint32_t> canonical(mesh.positions.size());
+  std::iota(canonical.begin(), canonical.end(), 0u);
+  auto root_of = [&](uint32_t v) {
+    while (canonical[v] != v) v = canonical[v] = canonical[canonical[v]];
+    return v;
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(mesh.positions.size());
+  for (const double shift : {0.0, 0.5}) {
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      uint64_t key = 0;
+      for (int axis = 0; axis < 3; ++axis)
+        key = key << 21 | (uint64_t(int64_t(std::floor(double(mesh.positions[v][axis]) / weld + shift))) & 0x1fffff);
+      keyed[v] = {key, uint32_t(v)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (size_t i = 1; i < keyed.size(); ++i)
+      if (keyed[i].first == keyed[i - 1].first) {
+        const uint32_t a = root_of(keyed[i].second), b = root_of(keyed[i - 1].second);
+        canonical[std::max(a, b)] = std::min(a, b);
+      }
+  }
+  for (uint32_t v = 0; v < canonical.size(); ++v) canonical[v] = root_of(v);
+  return canonical;
+}
+
+double weld_distance(const Mesh &mesh) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (const Eigen::Vector3f &p : mesh.positions) {
+    lo = lo.cwiseMin(p.cast<double>());
+    hi = hi.cwiseMax(p.cast<double>());
+  }
+  return mesh.positions.empty() ? 0.0 : 1e-6 * (hi - lo).norm();
 }
 
 Eigen::Vector3f surface_position(const Mesh &mesh, const SurfacePoint &sp) {

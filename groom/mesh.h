@@ -70,4 +70,49 @@ struct SurfaceFrame {
 
 SurfaceFrame surface_frame(const Mesh &mesh, const SurfacePoint &sp);
 
+/// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
+/// Detection, 5.1.5). The weights name the feature that holds the point: on an edge the opposite
+/// corner's weight is exactly 0, at a corner the other two are; inside the face none is.
+template <class Scalar>
+Eigen::Matrix<Scalar, 3, 1> closest_on_triangle(const Eigen::Matrix<Scalar, 3, 1> &p, const Eigen::Matrix<Scalar, 3, 1> &a,
+                                                const Eigen::Matrix<Scalar, 3, 1> &b, const Eigen::Matrix<Scalar, 3, 1> &c) {
+  using Vector = Eigen::Matrix<Scalar, 3, 1>;
+  const Scalar zero = 0, one = 1;
+  const Vector ab = b - a, ac = c - a, ap = p - a;
+  const Scalar d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= zero && d2 <= zero) return {one, zero, zero};
+  const Vector bp = p - b;
+  const Scalar d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= zero && d4 <= d3) return {zero, one, zero};
+  const Scalar vc = d1 * d4 - d3 * d2;
+  if (vc <= zero && d1 >= zero && d3 <= zero) {
+    const Scalar v = d1 / (d1 - d3);
+    return {one - v, v, zero};
+  }
+  const Vector cp = p - c;
+  const Scalar d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= zero && d5 <= d6) return {zero, zero, one};
+  const Scalar vb = d5 * d2 - d1 * d6;
+  if (vb <= zero && d2 >= zero && d6 <= zero) {
+    const Scalar w = d2 / (d2 - d6);
+    return {one - w, zero, w};
+  }
+  const Scalar va = d3 * d6 - d5 * d4;
+  if (va <= zero && (d4 - d3) >= zero && (d5 - d6) >= zero) {
+    const Scalar w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {zero, one - w, w};
+  }
+  const Scalar denom = one / (va + vb + vc);
+  const Scalar v = vb * denom, w = vc * denom;
+  return {one - v - w, v, w};
+}
+
+/// For each vertex, the lowest-numbered vertex it is welded to: vertices much closer than `weld`
+/// count as one (a mesh split along its UV seams is whole again). They share a cube of side `weld`
+/// in one of two grids of cubes offset by half a cube; a pair that straddles a face in both grids
+/// stays apart (rare).
+std::vector<uint32_t> welded_vertices(const Mesh &mesh, double weld);
+/// The weld distance Plume uses for a mesh: a millionth of its bounding box's diagonal.
+double weld_distance(const Mesh &mesh);
+
 }  // namespace plume

@@ -5,7 +5,10 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <utility>
 #include <vector>
 
 #include "groom/error.h"
@@ -20,19 +23,12 @@ using TriangleIterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
-// Barycentric coordinates of p (on or near triangle abc), computed in double.
-Eigen::Vector3f barycentric(const Eigen::Vector3d &p, const Eigen::Vector3d &a, const Eigen::Vector3d &b,
-                            const Eigen::Vector3d &c) {
-  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = p - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
-  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const double denom = d00 * d11 - d01 * d01;
-  if (!(denom > 0.0)) return Eigen::Vector3f(1.0f, 0.0f, 0.0f);
-  double v = (d11 * d20 - d01 * d21) / denom;
-  double w = (d00 * d21 - d01 * d20) / denom;
-  v = std::clamp(v, 0.0, 1.0);
-  w = std::clamp(w, 0.0, 1.0 - v);
-  return Eigen::Vector3f(float(1.0 - v - w), float(v), float(w));
+// The closest point of stored triangle `triangle` to p, as weights that name its feature.
+Eigen::Vector3f weights_on(const Mesh &mesh, int triangle, const Eigen::Vector3d &p) {
+  const Eigen::Vector3i &t = mesh.triangles[size_t(triangle)];
+  return closest_on_triangle<double>(p, mesh.positions[size_t(t[0])].cast<double>(), mesh.positions[size_t(t[1])].cast<double>(),
+                                     mesh.positions[size_t(t[2])].cast<double>())
+      .cast<float>();
 }
 }  // namespace
 
@@ -61,6 +57,69 @@ MeshQuery::MeshQuery(const Mesh &mesh, Start start) : mesh_(mesh), tree_(std::ma
   tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
   tree_->tree.build();
   if (start == Start::kd_tree) tree_->tree.accelerate_distance_queries();
+  compute_side_normals();
+}
+
+void MeshQuery::compute_side_normals() {
+  const Mesh &mesh = mesh_;
+  const size_t triangle_count = mesh.triangle_count();
+  const std::vector<uint32_t> canonical = welded_vertices(mesh, weld_distance(mesh));
+  face_normals_.resize(triangle_count);
+  corner_normals_.assign(mesh.positions.size(), Eigen::Vector3f::Zero());
+  for (size_t f = 0; f < triangle_count; ++f) {
+    const Eigen::Vector3i &t = mesh.triangles[f];
+    face_normals_[f] = tree_->stored[f] >= 0 ? mesh.face_normal(f) : Eigen::Vector3f::Zero();
+    if (face_normals_[f].squaredNorm() == 0.0f) continue;
+    // The triangle's angles (the third from the other two: they sum to pi).
+    float angles[3];
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3f &corner = mesh.positions[size_t(t[k])];
+      const Eigen::Vector3f to_next = mesh.positions[size_t(t[(k + 1) % 3])] - corner;
+      const Eigen::Vector3f to_previous = mesh.positions[size_t(t[(k + 2) % 3])] - corner;
+      angles[k] = std::atan2(to_next.cross(to_previous).norm(), to_next.dot(to_previous));
+    }
+    angles[2] = std::max(float(M_PI) - angles[0] - angles[1], 0.0f);
+    for (int k = 0; k < 3; ++k) corner_normals_[canonical[size_t(t[k])]] += angles[k] * face_normals_[f];
+  }
+  for (size_t v = 0; v < corner_normals_.size(); ++v) corner_normals_[v] = corner_normals_[canonical[v]];
+  for (Eigen::Vector3f &n : corner_normals_) n = n.normalized();  // zero stays zero
+
+  // Edges under their lower welded vertex (a counting sort); an edge's faces are those listed under
+  // the same two ends. Edge k of triangle f is the one opposite corner k.
+  auto ends = [&](size_t f, int k) {
+    const Eigen::Vector3i &t = mesh.triangles[f];
+    const uint32_t a = canonical[size_t(t[(k + 1) % 3])], b = canonical[size_t(t[(k + 2) % 3])];
+    return std::pair<uint32_t, uint32_t>(std::min(a, b), std::max(a, b));
+  };
+  std::vector<uint32_t> offsets(mesh.positions.size() + 1, 0);
+  for (size_t f = 0; f < triangle_count; ++f)
+    for (int k = 0; k < 3; ++k) ++offsets[ends(f, k).first + 1];
+  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+  // Per listed edge: which triangle edge (3 f + k) it is, and its higher end.
+  std::vector<uint32_t> listed(offsets.back()), listed_high(offsets.back()), fill(offsets.begin(), offsets.end() - 1);
+  for (size_t f = 0; f < triangle_count; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto [low, high] = ends(f, k);
+      listed_high[fill[low]] = high;
+      listed[fill[low]++] = uint32_t(3 * f + size_t(k));
+    }
+  edge_normals_.resize(3 * triangle_count);
+  for (size_t low = 0; low + 1 < offsets.size(); ++low)
+    for (uint32_t e = offsets[low]; e < offsets[low + 1]; ++e) {
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      for (uint32_t other = offsets[low]; other < offsets[low + 1]; ++other)
+        if (listed_high[other] == listed_high[e]) sum += face_normals_[listed[other] / 3];
+      edge_normals_[listed[e]] = sum.normalized();
+    }
+}
+
+const Eigen::Vector3f &MeshQuery::side_normal(const SurfacePoint &closest) const {
+  const size_t f = size_t(closest.triangle);
+  const Eigen::Vector3f &w = closest.bary;
+  const int zeros = int(w[0] == 0.0f) + int(w[1] == 0.0f) + int(w[2] == 0.0f);
+  if (zeros == 0) return face_normals_[f];
+  if (zeros == 1) return edge_normals_[3 * f + size_t(w[0] == 0.0f ? 0 : w[1] == 0.0f ? 1 : 2)];
+  return corner_normals_[size_t(mesh_.triangles[f][w[0] != 0.0f ? 0 : w[1] != 0.0f ? 1 : 2])];
 }
 
 MeshQuery::~MeshQuery() = default;
@@ -70,10 +129,7 @@ SurfacePoint MeshQuery::closest(const Eigen::Vector3f &point) const {
   const size_t stored = size_t(primitive_id - tree_->triangles.cbegin());
   SurfacePoint sp;
   sp.triangle = tree_->triangle_ids[stored];
-  const Eigen::Vector3i &t = mesh_.triangles[sp.triangle];
-  sp.bary = barycentric(Eigen::Vector3d(closest_point.x(), closest_point.y(), closest_point.z()),
-                        mesh_.positions[t[0]].cast<double>(), mesh_.positions[t[1]].cast<double>(),
-                        mesh_.positions[t[2]].cast<double>());
+  sp.bary = weights_on(mesh_, sp.triangle, point.cast<double>());
   return sp;
 }
 
@@ -93,10 +149,7 @@ SurfacePoint MeshQuery::closest(const Eigen::Vector3d &point, const SurfacePoint
       ::plume::Tree::Point_and_primitive_id(start_point, tree_->triangles.cbegin() + start));
   SurfacePoint sp;
   sp.triangle = tree_->triangle_ids[size_t(primitive_id - tree_->triangles.cbegin())];
-  const Eigen::Vector3i &t = mesh_.triangles[sp.triangle];
-  sp.bary = barycentric(Eigen::Vector3d(closest_point.x(), closest_point.y(), closest_point.z()),
-                        mesh_.positions[t[0]].cast<double>(), mesh_.positions[t[1]].cast<double>(),
-                        mesh_.positions[t[2]].cast<double>());
+  sp.bary = weights_on(mesh_, sp.triangle, point);
   return sp;
 }
 
@@ -105,7 +158,7 @@ double MeshQuery::signed_distance(const Eigen::Vector3d &point, const SurfacePoi
   r_closest = closest(point, hint);
   const Eigen::Vector3d offset = point - surface_position(mesh_, r_closest).cast<double>();
   const double distance = offset.norm();
-  const double side = offset.dot(surface_normal(mesh_, r_closest).cast<double>());
+  const double side = offset.dot(side_normal(r_closest).cast<double>());
   return side < 0.0 ? -distance : distance;
 }
 
@@ -114,8 +167,7 @@ float MeshQuery::signed_distance(const Eigen::Vector3f &point, SurfacePoint *r_c
   if (r_closest) *r_closest = sp;
   const Eigen::Vector3f offset = point - surface_position(mesh_, sp);
   const float distance = offset.norm();
-  const Eigen::Vector3f n = surface_normal(mesh_, sp);
-  const float side = offset.dot(n);
+  const float side = offset.dot(side_normal(sp));
   return side < 0.0f ? -distance : distance;
 }
 

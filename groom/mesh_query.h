@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <vector>
 
 #include "groom/mesh.h"
 
@@ -30,18 +31,33 @@ class MeshQuery {
   /// The same, searched from `hint`, any surface point of this mesh (the closer to the answer,
   /// the faster). The answer does not depend on the hint, up to ties between equidistant faces.
   SurfacePoint closest(const Eigen::Vector3d &point, const SurfacePoint &hint) const;
-  /// Distance to the surface, negative inside: the sign is that of (point - closest) . normal,
-  /// with the interpolated normal at the closest point (meaningful near a closed, outward-facing
-  /// surface; on an open mesh "inside" means "behind the skin").
+  /// Distance to the surface, negative inside: the sign is that of (point - closest) . side_normal
+  /// (closest). On a closed, consistently oriented surface this is the true signed distance: it
+  /// changes sign only across the skin, so it is 1-Lipschitz (every bound Plume takes from an
+  /// earlier distance relies on that). Near an open edge "inside" means "behind the skin".
   float signed_distance(const Eigen::Vector3f &point, SurfacePoint *r_closest = nullptr) const;
   /// Double-precision signed distance searched from `hint` (see closest(point, hint)).
   double signed_distance(const Eigen::Vector3d &point, const SurfacePoint &hint, SurfacePoint &r_closest) const;
+  /// The unit normal that decides the side of a point whose closest surface point is `closest`
+  /// (weights as closest_on_triangle gives them, naming the feature): the angle-weighted
+  /// pseudo-normal of that feature (Baerentzen and Aanaes 2005). Inside a face it is the face's
+  /// normal; on an edge, the mean of its two faces' normals; at a corner, the faces' normals weighted
+  /// by their angles there. Vertices are welded first (welded_vertices), so a seam is no edge.
+  /// Unlike the interpolated normal, it never calls a point inside the skin that no part of the
+  /// skin separates from the outside: where vertex normals average the two sides of a thin ear,
+  /// that one did.
+  const Eigen::Vector3f &side_normal(const SurfacePoint &closest) const;
   const Mesh &mesh() const { return mesh_; }
 
  private:
   struct Tree;
+  /// Fills the pseudo-normals of side_normal().
+  void compute_side_normals();
   const Mesh &mesh_;
   std::unique_ptr<Tree> tree_;
+  std::vector<Eigen::Vector3f> face_normals_;    // per triangle (zero when degenerate)
+  std::vector<Eigen::Vector3f> edge_normals_;    // 3 per triangle: edge k is the one opposite corner k
+  std::vector<Eigen::Vector3f> corner_normals_;  // per vertex
 };
 
 }  // namespace plume

@@ -12,69 +12,6 @@ namespace {
 /// Two distances within this factor are a near tie (see SkinGrid::signed_at).
 constexpr float kNearTie = 1.0001f;
 
-/// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
-/// Detection, 5.1.5).
-Eigen::Vector3f closest_on_triangle(const Eigen::Vector3f &p, const Eigen::Vector3f &a, const Eigen::Vector3f &b,
-                                    const Eigen::Vector3f &c) {
-  const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
-  const float d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0f && d2 <= 0.0f) return {1.0f, 0.0f, 0.0f};
-  const Eigen::Vector3f bp = p - b;
-  const float d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0f && d4 <= d3) return {0.0f, 1.0f, 0.0f};
-  const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
-    const float v = d1 / (d1 - d3);
-    return {1.0f - v, v, 0.0f};
-  }
-  const Eigen::Vector3f cp = p - c;
-  const float d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0f && d5 <= d6) return {0.0f, 0.0f, 1.0f};
-  const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
-    const float w = d2 / (d2 - d6);
-    return {1.0f - w, 0.0f, w};
-  }
-  const float va = d3 * d6 - d5 * d4;
-  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
-    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {0.0f, 1.0f - w, w};
-  }
-  const float denom = 1.0f / (va + vb + vc);
-  const float v = vb * denom, w = vc * denom;
-  return {1.0f - v - w, v, w};
-}
-
-/// For each vertex, the lowest-numbered vertex it is welded to: vertices much closer than `weld`
-/// count as one. They share a cube of side `weld` in one of two grids of cubes offset by half a cube;
-/// a pair that straddles a face in both grids stays apart (rare, and only costs a few flagged cells).
-std::vector<uint32_t> welded_vertices(const Mesh &mesh, double weld) {
-  weld = std::max(weld, 1e-30);
-  std::vector<uint32_t> canonical(mesh.positions.size());
-  std::iota(canonical.begin(), canonical.end(), 0u);
-  auto root_of = [&](uint32_t v) {
-    while (canonical[v] != v) v = canonical[v] = canonical[canonical[v]];
-    return v;
-  };
-  std::vector<std::pair<uint64_t, uint32_t>> keyed(mesh.positions.size());
-  for (const double shift : {0.0, 0.5}) {
-    for (size_t v = 0; v < mesh.positions.size(); ++v) {
-      uint64_t key = 0;
-      for (int axis = 0; axis < 3; ++axis)
-        key = key << 21 | (uint64_t(int64_t(std::floor(double(mesh.positions[v][axis]) / weld + shift))) & 0x1fffff);
-      keyed[v] = {key, uint32_t(v)};
-    }
-    std::sort(keyed.begin(), keyed.end());
-    for (size_t i = 1; i < keyed.size(); ++i)
-      if (keyed[i].first == keyed[i - 1].first) {
-        const uint32_t a = root_of(keyed[i].second), b = root_of(keyed[i - 1].second);
-        canonical[std::max(a, b)] = std::min(a, b);
-      }
-  }
-  for (uint32_t v = 0; v < canonical.size(); ++v) canonical[v] = root_of(v);
-  return canonical;
-}
-
 }  // namespace
 
 SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), query_(query) {
@@ -228,7 +165,7 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
   // edges are compared among themselves. The cells an open edge's bounding box touches, and one cell
   // around, are flagged.
   auto flag_open_edges = [&] {
-    const std::vector<uint32_t> canonical = welded_vertices(mesh, 1e-6 * double((hi - lo).norm()));
+    const std::vector<uint32_t> canonical = welded_vertices(mesh, weld_distance(mesh));
     std::vector<uint32_t> edge_offsets(mesh.positions.size() + 1, 0);
     auto for_each_edge = [&](auto &&visit) {
       for (const Eigen::Vector3i &t : mesh.triangles)
@@ -347,11 +284,11 @@ float SkinGrid::signed_at(const Eigen::Vector3f &p, const Nearest &nearest, Surf
   r_closest.bary = nearest.best_bary;
   const float distance = std::sqrt(nearest.best_sq);
   const Eigen::Vector3f offset = p - surface_position(mesh_, r_closest);
-  const float side = offset.dot(surface_normal(mesh_, r_closest));
+  const float side = offset.dot(query_.side_normal(r_closest));
   bool ill_conditioned = std::abs(side) < 0.05f * offset.norm();
   if (!ill_conditioned && nearest.second >= 0 && nearest.second_sq <= nearest.best_sq * kNearTie * kNearTie) {
     const SurfacePoint runner_up{nearest.second, nearest.second_bary};
-    const float other_side = (p - surface_position(mesh_, runner_up)).dot(surface_normal(mesh_, runner_up));
+    const float other_side = (p - surface_position(mesh_, runner_up)).dot(query_.side_normal(runner_up));
     ill_conditioned = (other_side < 0.0f) != (side < 0.0f);
   }
   if (ill_conditioned) return query_.signed_distance(p, &r_closest);

@@ -22,7 +22,7 @@ class SkinGrid {
   SkinGrid(const Mesh &mesh, const MeshQuery &query);
 
   /// Signed distance to the surface as MeshQuery::signed_distance defines it (sign of
-  /// (p - closest) . interpolated normal). `hint` is a triangle near p (or -1): the true closest
+  /// (p - closest) . MeshQuery::side_normal(closest)). `hint` is a triangle near p (or -1): the true closest
   /// triangle is within |p - closest point of hint|, so only the cells of that ball are searched;
   /// when they are too many, the whole-mesh query is used.
   float signed_distance(const Eigen::Vector3f &p, int hint, SurfacePoint &r_closest) const;
@@ -85,8 +85,8 @@ class SkinGrid {
     Eigen::Vector3f second_bary = Eigen::Vector3f::Zero();
   };
   /// The signed distance of p from a finished search (r_closest set from it). The tree's answer,
-  /// MeshQuery::signed_distance, replaces it where the side is ill-conditioned: the interpolated
-  /// normal nearly perpendicular to the offset, or a runner-up at a near tie on the other side (p
+  /// MeshQuery::signed_distance, replaces it where the side is ill-conditioned: the side normal
+  /// nearly perpendicular to the offset, or a runner-up at a near tie on the other side (p
   /// between two parts of the skin that overlap), so that every part of Plume agrees on the side.
   float signed_at(const Eigen::Vector3f &p, const Nearest &nearest, SurfacePoint &r_closest) const;
   /// Closest point of triangle `hint` to p and its squared distance; false when there is no hint, or

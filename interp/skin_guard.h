@@ -72,9 +72,9 @@ class SkinGuard {
 
   /// Moves `p` out along the surface normal if its signed distance is below the margin (a few
   /// iterations for concave places, where one move along the normal falls short). `always_query`
-  /// skips the bounds: for a point placed just after a push, where the skin may fold (a thin ear
-  /// whose vertex normals average its two sides, so the side of a point can change without crossing
-  /// the skin and the Lipschitz bound would clear a point that the signed distance puts inside).
+  /// skips the bounds: for a point placed just after a push, next to the skin, where the bounds
+  /// would rarely clear it and where skin that overlaps itself (lips pressed together: two closed
+  /// parts crossing) can change the side of a point without a crossing.
   /// Points near an open edge of the mesh (SkinGrid::near_open_edge) are always queried too.
   void keep_out(Eigen::Vector3f &p, bool always_query = false) {
     if (always_query || (grid_ && grid_->near_open_edge(p))) {

@@ -23,7 +23,8 @@ using TriangleIterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
-// The closest point of stored triangle `triangle` to p, as weights that name its feature.
+// The closest point of mesh triangle `triangle` to p, as weights that name its feature
+// (closest_on_triangle, in double).
 Eigen::Vector3f weights_on(const Mesh &mesh, int triangle, const Eigen::Vector3d &p) {
   const Eigen::Vector3i &t = mesh.triangles[size_t(triangle)];
   return closest_on_triangle<double>(p, mesh.positions[size_t(t[0])].cast<double>(), mesh.positions[size_t(t[1])].cast<double>(),

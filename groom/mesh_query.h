@@ -26,7 +26,8 @@ class MeshQuery {
   MeshQuery(const MeshQuery &) = delete;
   MeshQuery &operator=(const MeshQuery &) = delete;
 
-  /// The surface point closest to `point` (degenerate triangles are never returned).
+  /// The surface point closest to `point` (degenerate triangles are never returned). Its weights
+  /// are closest_on_triangle's: they name the feature (face, edge or corner) that holds it.
   SurfacePoint closest(const Eigen::Vector3f &point) const;
   /// The same, searched from `hint`, any surface point of this mesh (the closer to the answer,
   /// the faster). The answer does not depend on the hint, up to ties between equidistant faces.

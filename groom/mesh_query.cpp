@@ -85,8 +85,8 @@ void MeshQuery::compute_side_normals() {
   for (size_t v = 0; v < corner_normals_.size(); ++v) corner_normals_[v] = corner_normals_[canonical[v]];
   for (Eigen::Vector3f &n : corner_normals_) n = n.normalized();  // zero stays zero
 
-  // Edges under their lower welded vertex (a counting sort); an edge's faces are those listed under
-  // the same two ends. Edge k of triangle f is the one opposite corner k.
+  // Edges under their lower welded vertex (a counting sort, linear in the edges); an edge's faces are
+  // those listed under the same two ends. Edge k of triangle f is the one opposite corner k.
   auto ends = [&](size_t f, int k) {
     const Eigen::Vector3i &t = mesh.triangles[f];
     const uint32_t a = canonical[size_t(t[(k + 1) % 3])], b = canonical[size_t(t[(k + 2) % 3])];
@@ -105,12 +105,19 @@ void MeshQuery::compute_side_normals() {
       listed[fill[low]++] = uint32_t(3 * f + size_t(k));
     }
   edge_normals_.resize(3 * triangle_count);
+  open_edges_.clear();
   for (size_t low = 0; low + 1 < offsets.size(); ++low)
     for (uint32_t e = offsets[low]; e < offsets[low + 1]; ++e) {
       Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      int faces = 0;
       for (uint32_t other = offsets[low]; other < offsets[low + 1]; ++other)
-        if (listed_high[other] == listed_high[e]) sum += face_normals_[listed[other] / 3];
+        if (listed_high[other] == listed_high[e]) {
+          sum += face_normals_[listed[other] / 3];
+          ++faces;
+        }
       edge_normals_[listed[e]] = sum.normalized();
+      // An edge whose ends weld into one (of a degenerate triangle) is no edge.
+      if (faces == 1 && listed_high[e] != low) open_edges_.emplace_back(uint32_t(low), listed_high[e]);
     }
 }
 

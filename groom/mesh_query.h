@@ -2,7 +2,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "groom/mesh.h"
@@ -48,17 +50,22 @@ class MeshQuery {
   /// skin separates from the outside: where vertex normals average the two sides of a thin ear,
   /// that one did.
   const Eigen::Vector3f &side_normal(const SurfacePoint &closest) const;
+  /// The open edges: edges of exactly one triangle, over welded vertices (a mesh split along its UV
+  /// seams is not open there), as (lower, higher) welded vertex indices. Past an open edge the signed
+  /// distance changes sign without crossing the skin.
+  const std::vector<std::pair<uint32_t, uint32_t>> &open_edges() const { return open_edges_; }
   const Mesh &mesh() const { return mesh_; }
 
  private:
   struct Tree;
-  /// Fills the pseudo-normals of side_normal().
+  /// Fills the pseudo-normals of side_normal() and the open edges.
   void compute_side_normals();
   const Mesh &mesh_;
   std::unique_ptr<Tree> tree_;
   std::vector<Eigen::Vector3f> face_normals_;    // per triangle (zero when degenerate)
   std::vector<Eigen::Vector3f> edge_normals_;    // 3 per triangle: edge k is the one opposite corner k
   std::vector<Eigen::Vector3f> corner_normals_;  // per vertex
+  std::vector<std::pair<uint32_t, uint32_t>> open_edges_;
 };
 
 }  // namespace plume

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <numeric>
 
 namespace plume::interp {
 
@@ -42,183 +40,137 @@ SkinGrid::SkinGrid(const Mesh &mesh, const MeshQuery &query) : mesh_(mesh), quer
   const size_t cell_count = size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z());
   // The cells: each triangle listed in the cells it touches, and each cell's distance to the nearest
   // listed one.
-  auto list_triangles = [&] {
-    auto cell_range = [&](size_t f, Eigen::Vector3i &r_lo, Eigen::Vector3i &r_hi) {
-      const Eigen::Vector3i &t = mesh.triangles[f];
-      Eigen::Vector3f tlo = mesh.positions[size_t(t[0])], thi = tlo;
-      for (int i = 1; i < 3; ++i) {
-        tlo = tlo.cwiseMin(mesh.positions[size_t(t[i])]);
-        thi = thi.cwiseMax(mesh.positions[size_t(t[i])]);
-      }
-      for (int a = 0; a < 3; ++a) {
-        r_lo[a] = std::clamp(int(std::floor((tlo[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
-        r_hi[a] = std::clamp(int(std::floor((thi[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
-      }
-    };
-    cell_offsets_.assign(cell_count + 1, 0);
-    // Each triangle's bounding disc, listed in every cell its bounding box touches; then packed four
-    // to a block, cell by cell.
-    struct Listed {
-      Eigen::Vector3f centre, normal;
-      float radius;
-      int32_t triangle;
-    };
-    auto bounding_disc = [&](size_t f) {
-      const Eigen::Vector3f centre = (vertex(int(f), 0) + vertex(int(f), 1) + vertex(int(f), 2)) / 3.0f;
-      float radius_sq = 0.0f;
-      for (int i = 0; i < 3; ++i) radius_sq = std::max(radius_sq, (vertex(int(f), i) - centre).squaredNorm());
-      const Eigen::Vector3f normal =
-          (vertex(int(f), 1) - vertex(int(f), 0)).cross(vertex(int(f), 2) - vertex(int(f), 0));
-      const float norm = normal.norm();
-      // A triangle too thin for a normal gets none: the disc test is then the sphere test.
-      return Listed{centre, norm > 0.0f ? Eigen::Vector3f(normal / norm) : Eigen::Vector3f::Zero(),
-                    std::sqrt(radius_sq), int32_t(f)};
-    };
-    std::vector<int32_t> listed_offsets(cell_count + 1, 0);
-    std::vector<Listed> listed;
-    Eigen::Vector3i clo, chi;
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<int32_t> fill;
-      if (pass == 1) {
-        for (size_t c = 0; c < cell_count; ++c) listed_offsets[c + 1] += listed_offsets[c];
-        listed.resize(size_t(listed_offsets[cell_count]));
-        fill.assign(listed_offsets.begin(), listed_offsets.end() - 1);
-      }
-      for (size_t f = 0; f < mesh.triangle_count(); ++f) {
-        if (!listed_triangle[f]) continue;
-        cell_range(f, clo, chi);
-        for (int z = clo.z(); z <= chi.z(); ++z)
-          for (int y = clo.y(); y <= chi.y(); ++y)
-            for (int x = clo.x(); x <= chi.x(); ++x) {
-              const size_t c = cell_index(x, y, z);
-              if (pass == 0)
-                ++listed_offsets[c + 1];
-              else
-                listed[size_t(fill[c]++)] = bounding_disc(f);
-            }
-      }
+  auto cell_range = [&](size_t f, Eigen::Vector3i &r_lo, Eigen::Vector3i &r_hi) {
+    const Eigen::Vector3i &t = mesh.triangles[f];
+    Eigen::Vector3f tlo = mesh.positions[size_t(t[0])], thi = tlo;
+    for (int i = 1; i < 3; ++i) {
+      tlo = tlo.cwiseMin(mesh.positions[size_t(t[i])]);
+      thi = thi.cwiseMax(mesh.positions[size_t(t[i])]);
     }
-    for (size_t c = 0; c < cell_count; ++c)
-      cell_offsets_[c + 1] = cell_offsets_[c] + (listed_offsets[c + 1] - listed_offsets[c] + 3) / 4;
-    CellBlock padding;
     for (int a = 0; a < 3; ++a) {
-      padding.centre[a] = Float4{} + INFINITY;  // never within reach
-      padding.normal[a] = Float4{};
+      r_lo[a] = std::clamp(int(std::floor((tlo[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
+      r_hi[a] = std::clamp(int(std::floor((thi[a] - origin_[a]) / cell_size_)), 0, dims_[a] - 1);
     }
-    padding.radius = Float4{};
-    padding.triangle = Int4{} - 1;
-    cell_blocks_.assign(size_t(cell_offsets_[cell_count]), padding);
-    for (size_t c = 0; c < cell_count; ++c)
-      for (int32_t i = listed_offsets[c]; i < listed_offsets[c + 1]; ++i) {
-        const Listed &entry = listed[size_t(i)];
-        CellBlock &block = cell_blocks_[size_t(cell_offsets_[c] + (i - listed_offsets[c]) / 4)];
-        const int lane = (i - listed_offsets[c]) % 4;
-        for (int a = 0; a < 3; ++a) {
-          block.centre[a][lane] = entry.centre[a];
-          block.normal[a][lane] = entry.normal[a];
-        }
-        block.radius[lane] = entry.radius;
-        block.triangle[lane] = entry.triangle;
-      }
-    // Chessboard distance transform: two raster passes over the 26-neighbourhood are exact for it. They
-    // run on a copy padded by one cell of 255 on every side, so that no neighbour needs a bounds test.
-    const int64_t padded_x = dims_.x() + 2, padded_y = dims_.y() + 2, padded_z = dims_.z() + 2;
-    std::vector<uint8_t> padded(size_t(padded_x * padded_y * padded_z), 255);
-    auto padded_index = [&](int x, int y, int z) {
-      return size_t((int64_t(z + 1) * padded_y + (y + 1)) * padded_x + (x + 1));
-    };
-    for (int z = 0; z < dims_.z(); ++z)
-      for (int y = 0; y < dims_.y(); ++y)
-        for (int x = 0; x < dims_.x(); ++x) {
-          const size_t c = cell_index(x, y, z);
-          if (cell_offsets_[c + 1] > cell_offsets_[c]) padded[padded_index(x, y, z)] = 0;
-        }
-    // The 13 neighbours a forward raster has already visited: the whole layer below, the row before,
-    // the cell before.
-    int64_t before[13];
-    int count = 0;
-    for (int dz = -1; dz <= 0; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-          if (dz < 0 || dy < 0 || (dy == 0 && dx < 0)) before[count++] = (dz * padded_y + dy) * padded_x + dx;
-    for (int pass = 0; pass < 2; ++pass) {
-      const int64_t sign = pass == 0 ? 1 : -1;
-      for (int zi = 0; zi < dims_.z(); ++zi)
-        for (int yi = 0; yi < dims_.y(); ++yi)
-          for (int xi = 0; xi < dims_.x(); ++xi) {
-            const int z = pass == 0 ? zi : dims_.z() - 1 - zi, y = pass == 0 ? yi : dims_.y() - 1 - yi,
-                      x = pass == 0 ? xi : dims_.x() - 1 - xi;
-            uint8_t *cell = padded.data() + padded_index(x, y, z);
-            int best = *cell;
-            for (int n = 0; n < 13; ++n) best = std::min(best, int(cell[sign * before[n]]) + 1);
-            *cell = uint8_t(std::min(best, 255));
+  };
+  cell_offsets_.assign(cell_count + 1, 0);
+  // Each triangle's bounding disc, listed in every cell its bounding box touches; then packed four
+  // to a block, cell by cell.
+  struct Listed {
+    Eigen::Vector3f centre, normal;
+    float radius;
+    int32_t triangle;
+  };
+  auto bounding_disc = [&](size_t f) {
+    const Eigen::Vector3f centre = (vertex(int(f), 0) + vertex(int(f), 1) + vertex(int(f), 2)) / 3.0f;
+    float radius_sq = 0.0f;
+    for (int i = 0; i < 3; ++i) radius_sq = std::max(radius_sq, (vertex(int(f), i) - centre).squaredNorm());
+    const Eigen::Vector3f normal =
+        (vertex(int(f), 1) - vertex(int(f), 0)).cross(vertex(int(f), 2) - vertex(int(f), 0));
+    const float norm = normal.norm();
+    // A triangle too thin for a normal gets none: the disc test is then the sphere test.
+    return Listed{centre, norm > 0.0f ? Eigen::Vector3f(normal / norm) : Eigen::Vector3f::Zero(),
+                  std::sqrt(radius_sq), int32_t(f)};
+  };
+  std::vector<int32_t> listed_offsets(cell_count + 1, 0);
+  std::vector<Listed> listed;
+  Eigen::Vector3i clo, chi;
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int32_t> fill;
+    if (pass == 1) {
+      for (size_t c = 0; c < cell_count; ++c) listed_offsets[c + 1] += listed_offsets[c];
+      listed.resize(size_t(listed_offsets[cell_count]));
+      fill.assign(listed_offsets.begin(), listed_offsets.end() - 1);
+    }
+    for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+      if (!listed_triangle[f]) continue;
+      cell_range(f, clo, chi);
+      for (int z = clo.z(); z <= chi.z(); ++z)
+        for (int y = clo.y(); y <= chi.y(); ++y)
+          for (int x = clo.x(); x <= chi.x(); ++x) {
+            const size_t c = cell_index(x, y, z);
+            if (pass == 0)
+              ++listed_offsets[c + 1];
+            else
+              listed[size_t(fill[c]++)] = bounding_disc(f);
           }
     }
-    cell_distance_.resize(cell_count);
-    for (int z = 0; z < dims_.z(); ++z)
-      for (int y = 0; y < dims_.y(); ++y)
-        for (int x = 0; x < dims_.x(); ++x) cell_distance_[cell_index(x, y, z)] = padded[padded_index(x, y, z)];
-  };
-  // Open edges: edges of exactly one triangle, over welded vertices (a mesh split along a UV seam is
-  // not open there); an edge whose ends are one vertex (of a degenerate triangle) is no edge. Each
-  // edge is listed under its lower vertex (a counting sort, linear in the edges), and a vertex's few
-  // edges are compared among themselves. The cells an open edge's bounding box touches, and one cell
-  // around, are flagged.
-  auto flag_open_edges = [&] {
-    const std::vector<uint32_t> canonical = welded_vertices(mesh, weld_distance(mesh));
-    std::vector<uint32_t> edge_offsets(mesh.positions.size() + 1, 0);
-    auto for_each_edge = [&](auto &&visit) {
-      for (const Eigen::Vector3i &t : mesh.triangles)
-        for (int i = 0; i < 3; ++i) {
-          const uint32_t a = canonical[size_t(t[i])], b = canonical[size_t(t[(i + 1) % 3])];
-          if (a != b) visit(std::min(a, b), std::max(a, b));
-        }
-    };
-    for_each_edge([&](uint32_t low, uint32_t) { ++edge_offsets[low + 1]; });
-    std::partial_sum(edge_offsets.begin(), edge_offsets.end(), edge_offsets.begin());
-    std::vector<uint32_t> high_ends(edge_offsets.back()), fill(edge_offsets.begin(), edge_offsets.end() - 1);
-    for_each_edge([&](uint32_t low, uint32_t high) { high_ends[fill[low]++] = high; });
-    for (uint32_t low = 0; low + 1 < edge_offsets.size(); ++low)
-      for (uint32_t e = edge_offsets[low]; e < edge_offsets[low + 1]; ++e) {
-        const uint32_t high = high_ends[e];
-        int triangles = 0;
-        for (uint32_t other = edge_offsets[low]; other < edge_offsets[low + 1]; ++other)
-          triangles += high_ends[other] == high;
-        if (triangles != 1) continue;
-        if (near_open_edge_.empty()) near_open_edge_.assign(cell_count, 0);
-        const Eigen::Vector3f &a = mesh.positions[low], &b = mesh.positions[high];
-        Eigen::Vector3i first_cell, last_cell;
-        for (int axis = 0; axis < 3; ++axis) {
-          const int low_cell = int(std::floor((std::min(a[axis], b[axis]) - origin_[axis]) / cell_size_));
-          const int high_cell = int(std::floor((std::max(a[axis], b[axis]) - origin_[axis]) / cell_size_));
-          first_cell[axis] = std::clamp(low_cell - 1, 0, dims_[axis] - 1);
-          last_cell[axis] = std::clamp(high_cell + 1, 0, dims_[axis] - 1);
-        }
-        for (int z = first_cell.z(); z <= last_cell.z(); ++z)
-          for (int y = first_cell.y(); y <= last_cell.y(); ++y)
-            for (int x = first_cell.x(); x <= last_cell.x(); ++x) near_open_edge_[cell_index(x, y, z)] = 1;
-      }
-  };
-  // The two parts are independent: they run side by side (a frame's grid is built before its strands
-  // grow). An exception inside the parallel region would end the program: it is kept and thrown after.
-  std::exception_ptr failure[2];
-#pragma omp parallel sections num_threads(2)
-  {
-#pragma omp section
-    try {
-      list_triangles();
-    } catch (...) {
-      failure[0] = std::current_exception();
-    }
-#pragma omp section
-    try {
-      flag_open_edges();
-    } catch (...) {
-      failure[1] = std::current_exception();
-    }
   }
-  for (const std::exception_ptr &error : failure)
-    if (error) std::rethrow_exception(error);
+  for (size_t c = 0; c < cell_count; ++c)
+    cell_offsets_[c + 1] = cell_offsets_[c] + (listed_offsets[c + 1] - listed_offsets[c] + 3) / 4;
+  CellBlock padding;
+  for (int a = 0; a < 3; ++a) {
+    padding.centre[a] = Float4{} + INFINITY;  // never within reach
+    padding.normal[a] = Float4{};
+  }
+  padding.radius = Float4{};
+  padding.triangle = Int4{} - 1;
+  cell_blocks_.assign(size_t(cell_offsets_[cell_count]), padding);
+  for (size_t c = 0; c < cell_count; ++c)
+    for (int32_t i = listed_offsets[c]; i < listed_offsets[c + 1]; ++i) {
+      const Listed &entry = listed[size_t(i)];
+      CellBlock &block = cell_blocks_[size_t(cell_offsets_[c] + (i - listed_offsets[c]) / 4)];
+      const int lane = (i - listed_offsets[c]) % 4;
+      for (int a = 0; a < 3; ++a) {
+        block.centre[a][lane] = entry.centre[a];
+        block.normal[a][lane] = entry.normal[a];
+      }
+      block.radius[lane] = entry.radius;
+      block.triangle[lane] = entry.triangle;
+    }
+  // Chessboard distance transform: two raster passes over the 26-neighbourhood are exact for it. They
+  // run on a copy padded by one cell of 255 on every side, so that no neighbour needs a bounds test.
+  const int64_t padded_x = dims_.x() + 2, padded_y = dims_.y() + 2, padded_z = dims_.z() + 2;
+  std::vector<uint8_t> padded(size_t(padded_x * padded_y * padded_z), 255);
+  auto padded_index = [&](int x, int y, int z) {
+    return size_t((int64_t(z + 1) * padded_y + (y + 1)) * padded_x + (x + 1));
+  };
+  for (int z = 0; z < dims_.z(); ++z)
+    for (int y = 0; y < dims_.y(); ++y)
+      for (int x = 0; x < dims_.x(); ++x) {
+        const size_t c = cell_index(x, y, z);
+        if (cell_offsets_[c + 1] > cell_offsets_[c]) padded[padded_index(x, y, z)] = 0;
+      }
+  // The 13 neighbours a forward raster has already visited: the whole layer below, the row before,
+  // the cell before.
+  int64_t before[13];
+  int count = 0;
+  for (int dz = -1; dz <= 0; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (dz < 0 || dy < 0 || (dy == 0 && dx < 0)) before[count++] = (dz * padded_y + dy) * padded_x + dx;
+  for (int pass = 0; pass < 2; ++pass) {
+    const int64_t sign = pass == 0 ? 1 : -1;
+    for (int zi = 0; zi < dims_.z(); ++zi)
+      for (int yi = 0; yi < dims_.y(); ++yi)
+        for (int xi = 0; xi < dims_.x(); ++xi) {
+          const int z = pass == 0 ? zi : dims_.z() - 1 - zi, y = pass == 0 ? yi : dims_.y() - 1 - yi,
+                    x = pass == 0 ? xi : dims_.x() - 1 - xi;
+          uint8_t *cell = padded.data() + padded_index(x, y, z);
+          int best = *cell;
+          for (int n = 0; n < 13; ++n) best = std::min(best, int(cell[sign * before[n]]) + 1);
+          *cell = uint8_t(std::min(best, 255));
+        }
+  }
+  cell_distance_.resize(cell_count);
+  for (int z = 0; z < dims_.z(); ++z)
+    for (int y = 0; y < dims_.y(); ++y)
+      for (int x = 0; x < dims_.x(); ++x) cell_distance_[cell_index(x, y, z)] = padded[padded_index(x, y, z)];
+  // The cells an open edge of the mesh (MeshQuery::open_edges) passes through, by its bounding box,
+  // and one cell around.
+  for (const auto &[low, high] : query.open_edges()) {
+    if (near_open_edge_.empty()) near_open_edge_.assign(cell_count, 0);
+    const Eigen::Vector3f &a = mesh.positions[low], &b = mesh.positions[high];
+    Eigen::Vector3i first_cell, last_cell;
+    for (int axis = 0; axis < 3; ++axis) {
+      const int low_cell = int(std::floor((std::min(a[axis], b[axis]) - origin_[axis]) / cell_size_));
+      const int high_cell = int(std::floor((std::max(a[axis], b[axis]) - origin_[axis]) / cell_size_));
+      first_cell[axis] = std::clamp(low_cell - 1, 0, dims_[axis] - 1);
+      last_cell[axis] = std::clamp(high_cell + 1, 0, dims_[axis] - 1);
+    }
+    for (int z = first_cell.z(); z <= last_cell.z(); ++z)
+      for (int y = first_cell.y(); y <= last_cell.y(); ++y)
+        for (int x = first_cell.x(); x <= last_cell.x(); ++x) near_open_edge_[cell_index(x, y, z)] = 1;
+  }
 }
 
 float SkinGrid::distance_lower_bound(const Eigen::Vector3f &p) const {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "groom/mesh_query.h"
+#include "groom/roots.h"
 #include "io/obj_mesh.h"
 
 using namespace plume;
@@ -42,14 +43,8 @@ bool inside_tetrahedron(const Mesh &mesh, const Eigen::Vector3f &p, float &r_dep
   return r_depth > 0.0f;
 }
 
-uint64_t mix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
 /// A value in [-1, 1) from a counter.
-float unit(uint64_t counter) { return float(mix(counter) >> 40) / float(1ull << 23) - 1.0f; }
+float unit(uint64_t counter) { return 2.0f * hash_to_unit(hash64(counter)) - 1.0f; }
 
 }  // namespace
 

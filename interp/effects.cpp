@@ -276,8 +276,6 @@ Float4 load_lane(const float *f) {
   return v;
 }
 
-/// Dot products lane by lane, added x + (y + z) as Eigen's dot() of a Vector3f adds them.
-
 /// Arc length at each point of a polyline (r_cum[0] = 0), the segment lengths four at a time.
 void cumulative_lengths(std::span<const Eigen::Vector3f> pts, std::vector<float> &r_cum) {
   const size_t n = pts.size();

@@ -12,6 +12,7 @@
 #include "interp/check.h"
 #include "interp/interpolate.h"
 #include "interp/parting_field.h"
+#include "io/file_scan.h"
 #include "io/groom_file.h"
 #include "io/obj_mesh.h"
 #include "io/strand_file.h"
@@ -42,7 +43,7 @@ int run_check(const CheckArgs &args) {
   if (!args.groom.empty()) groom = io::read_groom_file(args.groom);
   const std::string mesh_path = !args.mesh.empty() ? args.mesh : groom ? groom->emitter_path : std::string();
   if (mesh_path.empty()) throw InputError("--mesh: expected the emitter mesh (.obj), or --groom to take its emitter");
-  if (!args.mesh.empty() && extension_of(args.mesh) != ".obj")
+  if (!args.mesh.empty() && io::detail::extension_of(args.mesh) != ".obj")
     throw InputError("--mesh: expected an .obj mesh, got \"" + args.mesh + "\"");
   set_thread_count(args.threads);
 

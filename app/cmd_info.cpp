@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "groom/error.h"
+#include "io/file_scan.h"
 #include "io/groom_file.h"
 #include "io/obj_mesh.h"
 #include "io/strand_file.h"
@@ -75,7 +76,7 @@ void add_info_command(CLI::App &app, int &r_exit_code) {
       "info", "Describe a file: strands (.usda .hair .ply .obj), an emitter mesh (.obj) or a groom (.yaml).");
   cmd->add_option("file", *file, "The file to describe")->required();
   cmd->callback([file, &r_exit_code] {
-    const std::string ext = extension_of(*file);
+    const std::string ext = io::detail::extension_of(*file);
     if (ext == ".yaml" || ext == ".yml") {
       std::printf("%s", io::describe_groom(io::read_groom_file(*file)).c_str());
     } else if (ext == ".obj") {

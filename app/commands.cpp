@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -71,12 +70,6 @@ FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) 
 int groom_first_frame(const GroomDesc &groom) {
   if (groom.output.frames.empty()) return 1;
   return parse_frame_range(groom.output.frames, groom.source + ": output.frames").first;
-}
-
-std::string extension_of(const std::string &path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
 }
 
 PreviewSchedule::PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what)
@@ -214,7 +207,7 @@ void check_output_pattern(const std::string &pattern, const FrameRange &range, c
                           const std::vector<std::string> &extensions) {
   if (pattern.empty()) throw InputError(what + ": expected an output path, got none");
   check_frame_pattern(pattern, range, what);
-  const std::string ext = extension_of(pattern);
+  const std::string ext = io::detail::extension_of(pattern);
   if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) {
     std::string list;
     for (const std::string &e : extensions) list += (list.empty() ? "" : ", ") + e;

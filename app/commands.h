@@ -101,8 +101,6 @@ class PreviewSchedule {
 int preview_size_of(int option, const GroomDesc &groom);
 /// Adds a preview size option `name` in [16, max_preview_size] to `cmd`.
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description);
-/// Lower-case extension with its dot (".usda"), empty when there is none.
-std::string extension_of(const std::string &path);
 /// The preview camera of a groom: fitted to the rest emitter and the rest guides, so that every
 /// frame of a sequence is seen from the same place.
 PreviewCamera groom_camera(const Pipeline &pipeline);

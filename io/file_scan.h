@@ -21,7 +21,9 @@ static_assert(std::endian::native == std::endian::little, "the binary readers as
 /// regular file (a device or a pipe).
 std::string read_file_bytes(const std::string &path);
 
-/// Lower-case extension with its dot (".usda"), or "" when the name has none.
+/// Lower-case extension with its dot (".usda"), or "" when the name has none (as std::filesystem
+/// reads it: a name that only starts with a dot, ".hair", has none). Every part of Plume that picks
+/// a format from a file name uses this one.
 std::string extension_of(const std::string &path);
 
 /// Quotes a token for a message: escapes as \xNN the bytes that are not printable ASCII (with

@@ -1005,6 +1005,16 @@ class StrandQuad {
 
 }  // namespace
 
+GrowStats &GrowStats::operator+=(const GrowStats &other) {
+  steps += other.steps;
+  predicted_steps += other.predicted_steps;
+  substepped_steps += other.substepped_steps;
+  evaluations += other.evaluations;
+  first_points += other.first_points;
+  first_points_proven += other.first_points_proven;
+  return *this;
+}
+
 std::string GrowStats::summary() const {
   const double per_step = steps > 0 ? 1.0 / double(steps) : 0.0;
   char text[200];
@@ -1056,11 +1066,9 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   // Roots are taken four at a time, so that streamline strands can grow side by side (StrandQuad).
   const int64_t root_count = int64_t(roots.size());
   const int64_t quad_count = (root_count + 3) / 4;
-  int64_t steps = 0, predicted_steps = 0, substepped_steps = 0, evaluations = 0, first_points = 0,
-          first_points_proven = 0;
+  GrowStats stats;
   bool finite = true;
-#pragma omp parallel reduction(+ : steps, predicted_steps, substepped_steps, evaluations, first_points, \
-                                   first_points_proven) reduction(&& : finite)
+#pragma omp parallel reduction(&& : finite)
   {
     RecentOutside recent_outside;  // this thread's last strands' first points
     GrowStats counts;  // this thread's
@@ -1159,16 +1167,11 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             r_strands.widths[size_t(r * n + i)] =
                 options.width_root + (options.width_tip - options.width_root) * float(i) / float(n - 1);
     }
-    steps += counts.steps;
-    predicted_steps += counts.predicted_steps;
-    substepped_steps += counts.substepped_steps;
-    evaluations += counts.evaluations;
-    first_points += counts.first_points;
-    first_points_proven += counts.first_points_proven;
+#pragma omp critical(plume_grow_stats)
+    stats += counts;
   }
 
-  if (options.r_stats)
-    *options.r_stats = {steps, predicted_steps, substepped_steps, evaluations, first_points, first_points_proven};
+  if (options.r_stats) *options.r_stats = stats;
   if (!finite) throw InternalError("grow: a strand point is not finite");
 }
 

@@ -72,6 +72,8 @@ struct GrowStats {
   /// "1.092 field evaluations per step; steps predicted 94.4%, split near a guide 0.39%; first points
   /// proven from earlier strands 71.9%".
   std::string summary() const;
+  /// Adds another part's counts (a thread's) to these.
+  GrowStats &operator+=(const GrowStats &other);
 };
 
 struct GrowOptions {

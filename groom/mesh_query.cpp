@@ -133,7 +133,8 @@ const Eigen::Vector3f &MeshQuery::side_normal(const SurfacePoint &closest) const
 MeshQuery::~MeshQuery() = default;
 
 SurfacePoint MeshQuery::closest(const Eigen::Vector3f &point) const {
-  const auto [closest_point, primitive_id] = tree_->tree.closest_point_and_primitive(Point(point.x(), point.y(), point.z()));
+  // The tree's point is not kept: weights_on finds it again on the primitive, with its feature.
+  const auto primitive_id = tree_->tree.closest_point_and_primitive(Point(point.x(), point.y(), point.z())).second;
   const size_t stored = size_t(primitive_id - tree_->triangles.cbegin());
   SurfacePoint sp;
   sp.triangle = tree_->triangle_ids[stored];
@@ -152,9 +153,8 @@ SurfacePoint MeshQuery::closest(const Eigen::Vector3d &point, const SurfacePoint
   const Eigen::Vector3f bary = hint_stored >= 0 ? hint.bary : Eigen::Vector3f(1.0f, 0.0f, 0.0f);
   const Point start_point = CGAL::barycenter(start_triangle[0], bary.x(), start_triangle[1], bary.y(),
                                              start_triangle[2], bary.z());
-  const auto [closest_point, primitive_id] = tree_->tree.closest_point_and_primitive(
-      Point(point.x(), point.y(), point.z()),
-      ::plume::Tree::Point_and_primitive_id(start_point, tree_->triangles.cbegin() + start));
+  const ::plume::Tree::Point_and_primitive_id start_hint(start_point, tree_->triangles.cbegin() + start);
+  const auto primitive_id = tree_->tree.closest_point_and_primitive(Point(point.x(), point.y(), point.z()), start_hint).second;
   SurfacePoint sp;
   sp.triangle = tree_->triangle_ids[size_t(primitive_id - tree_->triangles.cbegin())];
   sp.bary = weights_on(mesh_, sp.triangle, point);

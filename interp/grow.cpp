@@ -379,14 +379,16 @@ template <int W>
   using Int = typename Lanes<W>::Int;
   // The window: from the last closest point (never backwards), over the guide arc around where a
   // strand keeping pace with the guide would be (arc * guide length / strand length).
+  // The next segment's arc is this one's arc plus its length, the same float sum prepare_guides
+  // made, so the quads loaded here serve the window's first segment as well.
   const Float expected = arc * guides.arc_scale;
   const Float window_low = expected - window.half_arc, window_high = expected + window.half_arc;
   Int start = progress.segment;
+  Float start_quads[2][4];  // quads 0 and 1 of segment `start`
   for (;;) {
-    const Int has_next = start + 1 < guides.segment_count;
-    const Int next = start - has_next;
-    const Float next_arc = lanes_of<W>([&](int l) { return guides.segments[l][next[l]].arc; });
-    const Int advance = has_next & (next_arc <= window_low);
+    load_quad(guides.segments, start, 0, start_quads[0]);
+    load_quad(guides.segments, start, 1, start_quads[1]);
+    const Int advance = (start + 1 < guides.segment_count) & (start_quads[0][3] + start_quads[1][3] <= window_low);
     if (!any(advance)) break;
     start -= advance;
   }
@@ -402,10 +404,8 @@ template <int W>
   const Float inverse_one_plus_lambda = lambda > 0.0f ? 1.0f / (1.0f + lambda) : Float{} + 1.0f;
   // Segment j's cost in each lane: its point of least cost (at r_t along it), the squared
   // distance there, the segment's arc, and whether that point lies before the segment's end.
-  auto segment_cost = [&](Int j, Float &r_t, Float &r_distance_sq, Float &r_arc, Int &r_inner) {
-    Float start_arc[4], direction_length[4];
-    load_quad(guides.segments, j, 0, start_arc);
-    load_quad(guides.segments, j, 1, direction_length);
+  auto segment_cost = [&](const Float (&start_arc)[4], const Float (&direction_length)[4], Float &r_t,
+                          Float &r_distance_sq, Float &r_arc, Int &r_inner) {
     const Float &segment_arc = start_arc[3], &length = direction_length[3];
     r_arc = segment_arc;
     const Float ox = px - start_arc[0], oy = py - start_arc[1], oz = pz - start_arc[2];
@@ -429,19 +429,25 @@ template <int W>
   Int best = start, candidate = start;
   Float best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
   Int inner;
-  Float best_cost = segment_cost(start, best_t, best_sq, first_arc, inner);
+  Float best_cost = segment_cost(start_quads[0], start_quads[1], best_t, best_sq, first_arc, inner);
+  Float direction_length[4];  // quad 1 of the best segment
+  for (int c = 0; c < 4; ++c) direction_length[c] = start_quads[1][c];
   Int walking = (best < last) & ~inner;
   while (any(walking)) {
     // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
     // others; counted apart from `best` so that the next loads need not wait for the costs.
     candidate = candidate < last ? candidate + 1 : candidate;
+    Float quads[2][4];
+    load_quad(guides.segments, candidate, 0, quads[0]);
+    load_quad(guides.segments, candidate, 1, quads[1]);
     Float t, distance_sq, segment_arc;
-    const Float cost = segment_cost(candidate, t, distance_sq, segment_arc, inner);
+    const Float cost = segment_cost(quads[0], quads[1], t, distance_sq, segment_arc, inner);
     const Int in_window = (candidate - start < window.lookahead) | ~(segment_arc > window_high);
     const Int take = walking & in_window & ~(cost > best_cost + window.tie_sq);
     best_cost = take ? cost : best_cost;
     best_sq = take ? distance_sq : best_sq;
     best_t = take ? t : best_t;
+    for (int c = 0; c < 4; ++c) direction_length[c] = take ? quads[1][c] : direction_length[c];
     best -= take;
     walking = take & (best < last) & ~inner;
   }
@@ -450,8 +456,7 @@ template <int W>
   GuideMatch<W> match;
   match.distance_sq = best_sq;
   // The guides' tangents at the chosen points: linear along the segment between its two ends'.
-  Float direction_length[4], start_tangent[4], end_tangent[4];
-  load_quad(guides.segments, best, 1, direction_length);
+  Float start_tangent[4], end_tangent[4];
   load_quad(guides.segments, best, 2, start_tangent);
   load_quad(guides.segments, best, 3, end_tangent);
   const Float u = best_t * start_tangent[3];

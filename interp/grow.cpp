@@ -379,19 +379,8 @@ template <int W>
   using Int = typename Lanes<W>::Int;
   // The window: from the last closest point (never backwards), over the guide arc around where a
   // strand keeping pace with the guide would be (arc * guide length / strand length).
-  // The next segment's arc is this one's arc plus its length, the same float sum prepare_guides
-  // made, so the quads loaded here serve the window's first segment as well.
   const Float expected = arc * guides.arc_scale;
   const Float window_low = expected - window.half_arc, window_high = expected + window.half_arc;
-  Int start = progress.segment;
-  Float start_quads[2][4];  // quads 0 and 1 of segment `start`
-  for (;;) {
-    load_quad(guides.segments, start, 0, start_quads[0]);
-    load_quad(guides.segments, start, 1, start_quads[1]);
-    const Int advance = (start + 1 < guides.segment_count) & (start_quads[0][3] + start_quads[1][3] <= window_low);
-    if (!any(advance)) break;
-    start -= advance;
-  }
   // Farther from a curl than about its radius (1 / curvature), the squared distance along the
   // guide is no longer convex (its second derivative is 2 (1 - kappa (p - q).N), N the principal
   // normal): the closest point jumps round the coil, or sticks on the far side of it, as p moves,
@@ -424,33 +413,40 @@ template <int W>
   // until the window ends (past both `lookahead` segments and the window's arc). A segment whose
   // least cost lies before its end holds the minimum (the cost rises past it): the walk stops
   // there without looking at the next. Usually one segment is looked at instead of the whole
-  // window; the lanes walk together while any of them still moves on.
+  // window.
+  // One loop finds the window's first segment and then walks: a lane first moves forward from its
+  // last segment while the next one starts at or before the window's low end (its start is this
+  // one's arc plus length, the same float sum prepare_guides made), takes the first that does not
+  // (whatever its cost), then walks. The lanes look at the segment after the last in every pass,
+  // whatever they decided, so that the next loads need not wait for the costs; they go round
+  // together while any of them still moves on.
   const Int last = guides.segment_count - 1;
-  Int best = start, candidate = start;
-  Float best_t, best_sq, first_arc;  // the window's first segment is taken whatever its arc
-  Int inner;
-  Float best_cost = segment_cost(start_quads[0], start_quads[1], best_t, best_sq, first_arc, inner);
-  Float direction_length[4];  // quad 1 of the best segment
-  for (int c = 0; c < 4; ++c) direction_length[c] = start_quads[1][c];
-  Int walking = (best < last) & ~inner;
-  while (any(walking)) {
-    // best + 1 in the walking lanes (they took every segment so far), a valid segment in the
-    // others; counted apart from `best` so that the next loads need not wait for the costs.
-    candidate = candidate < last ? candidate + 1 : candidate;
+  Int segment = progress.segment;  // looked at in this pass
+  Int finding = segment == segment, walking = Int{};  // lanes still looking for the window's start, walking
+  Int start = segment, best = segment;
+  Float best_cost = Float{}, best_t = Float{}, best_sq = Float{};
+  Float direction_length[4] = {};  // quad 1 of the best segment
+  do {
     Float quads[2][4];
-    load_quad(guides.segments, candidate, 0, quads[0]);
-    load_quad(guides.segments, candidate, 1, quads[1]);
+    load_quad(guides.segments, segment, 0, quads[0]);
+    load_quad(guides.segments, segment, 1, quads[1]);
     Float t, distance_sq, segment_arc;
+    Int inner;
     const Float cost = segment_cost(quads[0], quads[1], t, distance_sq, segment_arc, inner);
-    const Int in_window = (candidate - start < window.lookahead) | ~(segment_arc > window_high);
-    const Int take = walking & in_window & ~(cost > best_cost + window.tie_sq);
+    const Int advance = finding & (segment < last) & (quads[0][3] + quads[1][3] <= window_low);
+    const Int first = finding & ~advance;
+    const Int in_window = (segment - start < window.lookahead) | ~(segment_arc > window_high);
+    const Int take = first | (walking & in_window & ~(cost > best_cost + window.tie_sq));
+    start = first ? segment : start;
+    best = take ? segment : best;
     best_cost = take ? cost : best_cost;
     best_sq = take ? distance_sq : best_sq;
     best_t = take ? t : best_t;
     for (int c = 0; c < 4; ++c) direction_length[c] = take ? quads[1][c] : direction_length[c];
-    best -= take;
-    walking = take & (best < last) & ~inner;
-  }
+    walking = take & (segment < last) & ~inner;
+    finding = advance;
+    segment = segment < last ? segment + 1 : segment;
+  } while (any(finding | walking));
   progress.segment = best;
   const Float best_distance = lane_sqrt(best_sq);
   GuideMatch<W> match;

@@ -585,10 +585,13 @@ struct QuadField {
 
   /// At p[c][l] (component c of lane l's point), at the lanes' arc lengths `arc`: the unit directions
   /// (`fallback` where the blend vanishes), the distances to the nearest influencing guides, the
-  /// guides' lower bounds of the points' signed distances to the skin, and the lanes with a hit guide.
+  /// guides' lower bounds of the points' signed distances to the skin, the lanes with a hit guide and,
+  /// if asked, the nearest guides' tangents at their chosen points.
   void operator()(const Float4 p[3], Float4 arc, const Float4 fallback[3], Float4 r_direction[3], Float4 &r_nearest,
-                  Float4 &r_clearance, Int4 &r_hit) {
+                  Float4 &r_clearance, Int4 &r_hit, Float4 *r_nearest_tangent = nullptr) {
     Float4 blend[3] = {Float4{}, Float4{}, Float4{}}, weight_sum = Float4{};
+    if (r_nearest_tangent)
+      for (int c = 0; c < 3; ++c) r_nearest_tangent[c] = Float4{};
     Float4 nearest_sq = Float4{} + INFINITY, clearance = Float4{} - INFINITY;
     Int4 hit = Int4{};
     const Float px = repeat_lanes<W>(p[0]), py = repeat_lanes<W>(p[1]), pz = repeat_lanes<W>(p[2]);
@@ -601,7 +604,11 @@ struct QuadField {
         clearance = clearance < slot_clearance ? slot_clearance : clearance;
         hit |= distance_sq <= hit_distance_sq;
         const Float4 counted = lane_quad(groups[group].influence, q) > 0.0f ? distance_sq : Float4{} + INFINITY;
-        nearest_sq = counted < nearest_sq ? counted : nearest_sq;
+        const Int4 nearer = counted < nearest_sq;
+        nearest_sq = nearer ? counted : nearest_sq;
+        if (r_nearest_tangent)
+          for (int c = 0; c < 3; ++c)
+            r_nearest_tangent[c] = nearer ? lane_quad(match.tangent[c], q) : r_nearest_tangent[c];
         for (int c = 0; c < 3; ++c) blend[c] += weight * lane_quad(match.tangent[c], q);
         weight_sum += weight;
       }
@@ -832,11 +839,12 @@ struct StreamlineStrand {
 };
 
 /// Four begun strands with the same number of guides, grown side by side, one per SIMD lane
-/// (QuadField). Most steps are predicted midpoint steps whose field is smooth and whose new point the
-/// guides prove outside the skin: those are taken in lanes, each lane doing its strand's own float
-/// operations in the same order, so the strands come out the same to the bit as grown one by one.
-/// A strand's other steps (full and split steps, a hit guide, a point the skin guard must look at)
-/// are handed to the strand (StreamlineStrand::step_from).
+/// (QuadField). Most steps are predicted midpoint steps whose field is smooth; the rest are mostly the
+/// full steps after begin(), which all four strands take at once. Both are taken in lanes, each lane
+/// doing its strand's own float operations in the same order, so the strands come out the same to the
+/// bit as grown one by one; the skin guard of each strand looks at its new point where the guides do
+/// not prove it outside. A strand's other steps (the full step after a failed prediction, a step split
+/// near a guide, a hit guide) are handed to the strand (StreamlineStrand::step_from).
 class StrandQuad {
  public:
   explicit StrandQuad(StreamlineStrand *const strands[4]) {
@@ -877,21 +885,16 @@ class StrandQuad {
   /// Point i + 1 of every strand.
   void take_step(int i) {
     if (!any(history_)) {
-      for (int l = 0; l < 4; ++l) hand_step(l, i, false);
+      take_full_steps(i);
       return;
     }
-    const float margin = strands_[0]->skin_margin();
     // StreamlineStrand::step_from's predicted step, in lanes.
     const Int4 near = (nearest_ > 0.0f) & (nearest_ < 0.5f * step_);
     const Float4 smooth = near ? Float4{} + kNearSmoothTurning : Float4{} + kSmoothTurning;
-    Float4 extrapolated[3], start_direction[3], middle[3];
-    for (int c = 0; c < 3; ++c) extrapolated[c] = 1.5f * last_middle_[c] - 0.5f * previous_middle_[c];
-    const Float4 extrapolated_norm = lane_sqrt(dot_lanes(extrapolated, extrapolated));
-    const Float4 inverse_norm = 1.0f / extrapolated_norm;
-    for (int c = 0; c < 3; ++c) {
-      start_direction[c] = extrapolated_norm > 1e-20f ? extrapolated[c] * inverse_norm : last_middle_[c];
-      middle[c] = point_[c] + (0.5f * step_) * start_direction[c];
-    }
+    Float4 start_direction[3], middle[3];
+    for (int c = 0; c < 3; ++c) start_direction[c] = 1.5f * last_middle_[c] - 0.5f * previous_middle_[c];
+    unit_or(start_direction, last_middle_);
+    for (int c = 0; c < 3; ++c) middle[c] = point_[c] + (0.5f * step_) * start_direction[c];
     GuideProgress<QuadField::W> saved[QuadField::max_groups];
     std::copy(field_.progress, field_.progress + field_.group_count, saved);
     Float4 middle_direction[3], middle_nearest, middle_clearance;
@@ -901,52 +904,114 @@ class StrandQuad {
     for (int c = 0; c < 3; ++c) turn[c] = middle_direction[c] - 2.0f * last_middle_[c] + previous_middle_[c];
     const Int4 smooth_enough = dot_lanes(turn, turn) <= smooth * smooth;
     const Int4 predicted = history_ & ~hit & smooth_enough;
-    // StreamlineStrand::advance, in lanes, up to the guard's own checks.
-    const SkinGuard *const guards[4] = {&strands_[0]->guard, &strands_[1]->guard, &strands_[2]->guard,
-                                        &strands_[3]->guard};
-    const Float4 known_distance = {guards[0]->known_distance(), guards[1]->known_distance(),
-                                   guards[2]->known_distance(), guards[3]->known_distance()};
-    Float4 to[3], from_middle[3], from_known[3];
-    for (int c = 0; c < 3; ++c) {
-      const Float4 known_point = {guards[0]->known_point()[c], guards[1]->known_point()[c],
-                                  guards[2]->known_point()[c], guards[3]->known_point()[c]};
-      to[c] = point_[c] + step_ * middle_direction[c];
-      from_middle[c] = to[c] - middle[c];
-      from_known[c] = to[c] - known_point;
-    }
-    const Float4 guided = middle_clearance - lane_sqrt(dot_lanes(from_middle, from_middle));
-    const Float4 known_bound = known_distance - lane_sqrt(dot_lanes(from_known, from_known));
-    const Int4 guided_outside = (guided >= margin) & (guided > known_bound);
-    if (any(~predicted)) {
-      const QuadField::Int kept = repeat_lanes<QuadField::W>(predicted);
-      for (int group = 0; group < field_.group_count; ++group) {
-        field_.progress[group].segment = kept ? field_.progress[group].segment : saved[group].segment;
-        field_.progress[group].pace = kept ? field_.progress[group].pace : saved[group].pace;
-      }
-    }
     nearest_ = predicted ? middle_nearest : nearest_;
     for (int c = 0; c < 3; ++c) {
       previous_middle_[c] = predicted ? last_middle_[c] : previous_middle_[c];
       last_middle_[c] = predicted ? middle_direction[c] : last_middle_[c];
     }
+    advance(i, predicted, middle_direction, middle, middle_clearance, saved, [&](int l) {
+      if (predicted[l]) {
+        ++strands_[l]->counts.evaluations;
+        ++strands_[l]->counts.predicted_steps;
+      }
+      // A prediction that was looked at and failed is followed by a full step, as in step_from().
+      return history_[l] && !hit[l];
+    });
+  }
+
+  /// Point i + 1 of every strand when none has a prediction to make (after begin(), or after steps
+  /// split near a guide): StreamlineStrand::full_step_from, in lanes, where the step is not split and
+  /// no guide is hit; the other strands take it themselves.
+  void take_full_steps(int i) {
+    Float4 direction[3], start_direction[3], start_nearest, start_clearance, nearest_tangent[3];
+    Float4 middle[3], middle_direction[3], middle_nearest, middle_clearance;
+    Int4 start_hit, middle_hit;
+    for (int c = 0; c < 3; ++c)
+      direction[c] = point_[c] - Float4{strands_[0]->points[i - 1][c], strands_[1]->points[i - 1][c],
+                                        strands_[2]->points[i - 1][c], strands_[3]->points[i - 1][c]};
+    unit_or(direction, last_middle_);
+    GuideProgress<QuadField::W> saved[QuadField::max_groups];
+    std::copy(field_.progress, field_.progress + field_.group_count, saved);
+    field_(point_, float(i) * step_, direction, start_direction, start_nearest, start_clearance, start_hit,
+           nearest_tangent);
+    Float4 cone[3];
+    for (int c = 0; c < 3; ++c) cone[c] = start_direction[c] - nearest_tangent[c];
+    const Int4 split = (start_nearest > 0.0f) & (start_nearest < 0.5f * step_) &
+                       ((0.5f * step_) * lane_sqrt(dot_lanes(cone, cone)) > kConeTurning * start_nearest);
+    for (int c = 0; c < 3; ++c) middle[c] = point_[c] + (0.5f * step_) * start_direction[c];
+    field_(middle, float(i) * step_ + 0.5f * step_, start_direction, middle_direction, middle_nearest,
+           middle_clearance, middle_hit);
+    const Int4 whole = ~start_hit & ~split & ~middle_hit;
+    // As full_step_from leaves a whole step: the field at the midpoint before it extrapolated back.
+    Float4 previous_middle[3];
+    for (int c = 0; c < 3; ++c) previous_middle[c] = 2.0f * start_direction[c] - middle_direction[c];
+    unit_or(previous_middle, start_direction);
+    nearest_ = whole ? middle_nearest : nearest_;
+    history_ = whole;
+    for (int c = 0; c < 3; ++c) {
+      previous_middle_[c] = whole ? previous_middle[c] : previous_middle_[c];
+      last_middle_[c] = whole ? middle_direction[c] : last_middle_[c];
+    }
+    advance(i, whole, middle_direction, middle, middle_clearance, saved, [&](int l) {
+      strands_[l]->counts.evaluations += 2;
+      return false;
+    });
+  }
+
+  /// StreamlineStrand::advance in the lanes of `taken`: point i + 1 at step * direction from point i,
+  /// with the lower bound of the signed distance `clearance` that the guides give at `evaluated_at`,
+  /// up to the guard's own checks. `count(l)` counts lane l's evaluations; for a lane not taken, whose
+  /// guides' progress goes back to `saved`, it says whether the strand's full step follows a failed
+  /// prediction (hand_step's `looked_at`).
+  template <class Count>
+  void advance(int i, Int4 taken, const Float4 direction[3], const Float4 evaluated_at[3], Float4 clearance,
+               const GuideProgress<QuadField::W> saved[], Count &&count) {
+    const float margin = strands_[0]->skin_margin();
+    const SkinGuard *const guards[4] = {&strands_[0]->guard, &strands_[1]->guard, &strands_[2]->guard,
+                                        &strands_[3]->guard};
+    const Float4 known_distance = {guards[0]->known_distance(), guards[1]->known_distance(),
+                                   guards[2]->known_distance(), guards[3]->known_distance()};
+    Float4 to[3], from_evaluated[3], from_known[3];
+    for (int c = 0; c < 3; ++c) {
+      const Float4 known_point = {guards[0]->known_point()[c], guards[1]->known_point()[c],
+                                  guards[2]->known_point()[c], guards[3]->known_point()[c]};
+      to[c] = point_[c] + step_ * direction[c];
+      from_evaluated[c] = to[c] - evaluated_at[c];
+      from_known[c] = to[c] - known_point;
+    }
+    const Float4 guided = clearance - lane_sqrt(dot_lanes(from_evaluated, from_evaluated));
+    const Float4 known_bound = known_distance - lane_sqrt(dot_lanes(from_known, from_known));
+    const Int4 guided_outside = (guided >= margin) & (guided > known_bound);
+    if (any(~taken)) {
+      const QuadField::Int kept = repeat_lanes<QuadField::W>(taken);
+      for (int group = 0; group < field_.group_count; ++group) {
+        field_.progress[group].segment = kept ? field_.progress[group].segment : saved[group].segment;
+        field_.progress[group].pace = kept ? field_.progress[group].pace : saved[group].pace;
+      }
+    }
     for (int l = 0; l < 4; ++l) {
-      if (!predicted[l]) {
-        // A prediction that was looked at and failed is followed by a full step, as in step_from().
-        hand_step(l, i, history_[l] && !hit[l]);
+      StreamlineStrand &strand = *strands_[l];
+      const bool looked_at = count(l);
+      if (!taken[l]) {
+        hand_step(l, i, looked_at);
         continue;
       }
-      StreamlineStrand &strand = *strands_[l];
       ++strand.counts.steps;
-      ++strand.counts.evaluations;
-      ++strand.counts.predicted_steps;
       const Eigen::Vector3f from(point_[0][l], point_[1][l], point_[2][l]);
       Eigen::Vector3f next(to[0][l], to[1][l], to[2][l]);
       if (!(guided_outside[l] && strand.guard.know_outside(next, guided[l])))
-        next = strand.keep_out(from, Eigen::Vector3f(middle_direction[0][l], middle_direction[1][l], middle_direction[2][l]), next);
+        next = strand.keep_out(from, Eigen::Vector3f(direction[0][l], direction[1][l], direction[2][l]), next);
       strand.points[i + 1] = next;
       strand.record_clearance(i + 1);
       for (int c = 0; c < 3; ++c) point_[c][l] = next[c];
     }
+  }
+
+  /// unit_or() in lanes: v (components v[c]) made unit, or `fallback` where its norm is 1e-20 or less.
+  static void unit_or(Float4 v[3], const Float4 fallback[3]) {
+    const Float4 norm = lane_sqrt(dot_lanes(v, v));
+    const Float4 inverse_norm = 1.0f / norm;
+    for (int c = 0; c < 3; ++c) v[c] = norm > 1e-20f ? v[c] * inverse_norm : fallback[c];
   }
 
   /// Strand l takes step i itself: the whole step, or (`looked_at`) the full step after a prediction

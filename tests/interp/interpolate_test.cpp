@@ -202,7 +202,8 @@ TEST_CASE("a streamline strand is the same to the bit whichever strands are grow
   // A strand must not depend on the strands grown in the same call (their order, their count, what
   // a thread grows before it): gentle arcs and tight curls (where the pace term acts), guides of
   // several lengths (so neighbours step differently), and k = 5 and 6: a full and a partial group of
-  // four guides, and (where growth searches two guide slots side by side) an odd last slot.
+  // four guides, and (where growth searches two guide slots side by side) an odd last slot. Roots at
+  // the guides' own roots too, whose strands hit their guide (distance 0) from the first step on.
   const auto helix = [](int i) {
     const float radius = 0.04f, rise = 0.02f, phase = 0.5f * float(i);
     return std::function<Eigen::Vector3f(float)>([=](float s) {
@@ -214,22 +215,25 @@ TEST_CASE("a streamline strand is the same to the bit whichever strands are grow
   const CapScene arcs([](int i) { return arc_shape(0.5f + 0.2f * float(i % 3)); }, 24,
                       [](int i) { return 0.5f + 0.1f * float(i % 4); }, 41);
   const CapScene curls(helix, 64, [](int i) { return 0.8f + 0.1f * float(i % 4); }, 41, true);
-  for (const CapScene *scene : {&arcs, &curls})
-    for (const int k : {4, 5, 6}) {
-      const InterpolationSettings settings = settings_for(Method::streamline, k);
-      const interp::Binding binding = interp::bind(scene->mesh, scene->guides, scene->roots, settings);
-      const StrandSet all = grow_all(binding, scene->mesh, scene->query, scene->roots, scene->guides.strands);
-      for (size_t r = 0; r < scene->roots.size(); r += 3) {
-        Roots alone;
-        alone.points = {scene->roots.points[r]};
-        alone.ids = {scene->roots.ids[r]};
-        const interp::Binding single = interp::bind(scene->mesh, scene->guides, alone, settings);
-        const StrandSet strand = grow_all(single, scene->mesh, scene->query, alone, scene->guides.strands);
-        const std::span<const Eigen::Vector3f> in_all = all.points(r);
-        REQUIRE(strand.positions.size() == in_all.size());
-        CHECK(std::memcmp(strand.positions.data(), in_all.data(), in_all.size() * sizeof(Eigen::Vector3f)) == 0);
+  for (const CapScene *scene : {&arcs, &curls}) {
+    const Roots at_guides = roots_of(scene->guides);
+    for (const int k : {4, 5, 6})
+      for (const Roots *roots : {&scene->roots, &at_guides}) {
+        const InterpolationSettings settings = settings_for(Method::streamline, k);
+        const interp::Binding binding = interp::bind(scene->mesh, scene->guides, *roots, settings);
+        const StrandSet all = grow_all(binding, scene->mesh, scene->query, *roots, scene->guides.strands);
+        for (size_t r = 0; r < roots->size(); r += roots == &at_guides ? 1 : 3) {
+          Roots alone;
+          alone.points = {roots->points[r]};
+          alone.ids = {roots->ids[r]};
+          const interp::Binding single = interp::bind(scene->mesh, scene->guides, alone, settings);
+          const StrandSet strand = grow_all(single, scene->mesh, scene->query, alone, scene->guides.strands);
+          const std::span<const Eigen::Vector3f> in_all = all.points(r);
+          REQUIRE(strand.positions.size() == in_all.size());
+          CHECK(std::memcmp(strand.positions.data(), in_all.data(), in_all.size() * sizeof(Eigen::Vector3f)) == 0);
+        }
       }
-    }
+  }
 }
 
 namespace {

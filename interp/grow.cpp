@@ -458,9 +458,7 @@ template <int W>
   const Float u = best_t * start_tangent[3];
   Float tangent[3];
   for (int c = 0; c < 3; ++c) tangent[c] = (1.0f - u) * start_tangent[c] + u * end_tangent[c];
-  const Float norm = lane_sqrt(dot_lanes(tangent, tangent));
-  const Float inverse_norm = 1.0f / norm;  // unit_or(tangent, segment direction)
-  for (int c = 0; c < 3; ++c) match.tangent[c] = norm > 1e-20f ? tangent[c] * inverse_norm : direction_length[c];
+  unit_lanes(tangent, direction_length, match.tangent);  // unit_or(tangent, segment direction)
   const Float start_clearance = lanes_of<W>([&](int l) { return guides.clearances[l][best[l]]; });
   const Float end_clearance = lanes_of<W>([&](int l) { return guides.clearances[l][best[l] + 1]; });
   const Float from_start = start_clearance - best_t, from_end = end_clearance - (direction_length[3] - best_t);
@@ -889,11 +887,10 @@ class StrandQuad {
       return;
     }
     // StreamlineStrand::step_from's predicted step, in lanes.
-    const Int4 near = (nearest_ > 0.0f) & (nearest_ < 0.5f * step_);
-    const Float4 smooth = near ? Float4{} + kNearSmoothTurning : Float4{} + kSmoothTurning;
+    const Float4 smooth = near_a_guide(nearest_) ? Float4{} + kNearSmoothTurning : Float4{} + kSmoothTurning;
     Float4 start_direction[3], middle[3];
     for (int c = 0; c < 3; ++c) start_direction[c] = 1.5f * last_middle_[c] - 0.5f * previous_middle_[c];
-    unit_or(start_direction, last_middle_);
+    unit_lanes(start_direction, last_middle_, start_direction);
     for (int c = 0; c < 3; ++c) middle[c] = point_[c] + (0.5f * step_) * start_direction[c];
     GuideProgress<QuadField::W> saved[QuadField::max_groups];
     std::copy(field_.progress, field_.progress + field_.group_count, saved);
@@ -929,14 +926,14 @@ class StrandQuad {
     for (int c = 0; c < 3; ++c)
       direction[c] = point_[c] - Float4{strands_[0]->points[i - 1][c], strands_[1]->points[i - 1][c],
                                         strands_[2]->points[i - 1][c], strands_[3]->points[i - 1][c]};
-    unit_or(direction, last_middle_);
+    unit_lanes(direction, last_middle_, direction);
     GuideProgress<QuadField::W> saved[QuadField::max_groups];
     std::copy(field_.progress, field_.progress + field_.group_count, saved);
     field_(point_, float(i) * step_, direction, start_direction, start_nearest, start_clearance, start_hit,
            nearest_tangent);
     Float4 cone[3];
     for (int c = 0; c < 3; ++c) cone[c] = start_direction[c] - nearest_tangent[c];
-    const Int4 split = (start_nearest > 0.0f) & (start_nearest < 0.5f * step_) &
+    const Int4 split = near_a_guide(start_nearest) &
                        ((0.5f * step_) * lane_sqrt(dot_lanes(cone, cone)) > kConeTurning * start_nearest);
     for (int c = 0; c < 3; ++c) middle[c] = point_[c] + (0.5f * step_) * start_direction[c];
     field_(middle, float(i) * step_ + 0.5f * step_, start_direction, middle_direction, middle_nearest,
@@ -945,7 +942,7 @@ class StrandQuad {
     // As full_step_from leaves a whole step: the field at the midpoint before it extrapolated back.
     Float4 previous_middle[3];
     for (int c = 0; c < 3; ++c) previous_middle[c] = 2.0f * start_direction[c] - middle_direction[c];
-    unit_or(previous_middle, start_direction);
+    unit_lanes(previous_middle, start_direction, previous_middle);
     nearest_ = whole ? middle_nearest : nearest_;
     history_ = whole;
     for (int c = 0; c < 3; ++c) {
@@ -1007,12 +1004,8 @@ class StrandQuad {
     }
   }
 
-  /// unit_or() in lanes: v (components v[c]) made unit, or `fallback` where its norm is 1e-20 or less.
-  static void unit_or(Float4 v[3], const Float4 fallback[3]) {
-    const Float4 norm = lane_sqrt(dot_lanes(v, v));
-    const Float4 inverse_norm = 1.0f / norm;
-    for (int c = 0; c < 3; ++c) v[c] = norm > 1e-20f ? v[c] * inverse_norm : fallback[c];
-  }
+  /// StreamlineStrand::near_a_guide in lanes.
+  Int4 near_a_guide(Float4 distance) const { return (distance > 0.0f) & (distance < 0.5f * step_); }
 
   /// Strand l takes step i itself: the whole step, or (`looked_at`) the full step after a prediction
   /// that was evaluated in lanes and failed.

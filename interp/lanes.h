@@ -104,6 +104,16 @@ inline Float dot_lanes(const Float u[3], const Float v[3]) {
   return u[0] * v[0] + (u[1] * v[1] + u[2] * v[2]);
 }
 
+/// Lane-wise unit vector of a 3-vector given by components: r = v / |v| (|v| as dot_lanes, one
+/// division, then products: the bits of unit_or in interp/grow.cpp), or `fallback` where |v| is
+/// 1e-20 or less. r may be v.
+template <class Float>
+inline void unit_lanes(const Float v[3], const Float fallback[3], Float r[3]) {
+  const Float norm = lane_sqrt(dot_lanes(v, v));
+  const Float inverse_norm = 1.0f / norm;
+  for (int c = 0; c < 3; ++c) r[c] = norm > 1e-20f ? v[c] * inverse_norm : fallback[c];
+}
+
 /// The vector of W lanes whose lane l is value(l).
 template <int W, class Value>
 [[gnu::always_inline]] inline typename Lanes<W>::Float lanes_of(Value &&value) {

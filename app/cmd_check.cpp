@@ -9,9 +9,9 @@
 #include "app/commands.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
-#include "interp/check.h"
+#include "check/check.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 #include "io/file_scan.h"
 #include "io/groom_file.h"
 #include "io/obj_mesh.h"
@@ -51,7 +51,7 @@ int run_check(const CheckArgs &args) {
   const Mesh mesh = io::read_obj_mesh(mesh_path);
   const MeshQuery query(mesh);
 
-  interp::CheckOptions options;
+  check::CheckOptions options;
   options.crossing_tolerance = args.tolerance;
   options.skin_margin = args.margin;
 
@@ -64,19 +64,19 @@ int run_check(const CheckArgs &args) {
   }
 
   // The zone check binds the strands' roots with the groom's partings and interpolation settings.
-  std::unique_ptr<interp::PartingField> partings;
+  std::unique_ptr<partings::PartingField> partings;
   std::optional<Roots> roots;
   std::optional<interp::Binding> binding;
   if (groom && guides) {
-    partings = std::make_unique<interp::PartingField>(mesh, *guides, groom->partings);
-    roots = interp::roots_of(strands, query);
+    partings = std::make_unique<partings::PartingField>(mesh, *guides, groom->partings);
+    roots = check::roots_of(strands, query);
     binding = interp::bind(mesh, *guides, *roots, groom->interpolation, partings->empty() ? nullptr : partings.get());
   }
 
   // The only input check_strands refuses is a crossing tolerance beyond the crossing count's budget.
-  interp::CheckReport report;
+  check::CheckReport report;
   try {
-    report = interp::check_strands(strands, query, options, guides ? &*guides : nullptr, partings.get(),
+    report = check::check_strands(strands, query, options, guides ? &*guides : nullptr, partings.get(),
                                    roots ? &*roots : nullptr, binding ? &*binding : nullptr);
   } catch (const InputError &e) {
     char tolerance[32];

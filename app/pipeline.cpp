@@ -13,10 +13,10 @@
 #include "dynamics/guide_simulator.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
-#include "interp/effects.h"
+#include "effects/effects.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
-#include "interp/skin_grid.h"
+#include "partings/parting_field.h"
+#include "skin/skin_grid.h"
 #include "io/obj_mesh.h"
 #include "io/point_list.h"
 #include "io/strand_file.h"
@@ -178,13 +178,13 @@ Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : gro
     for (size_t r = 0; r < roots_.size(); ++r) root_uvs_[r] = surface_uv(rest_mesh_, roots_.points[r]);
   }
 
-  partings_ = std::make_unique<interp::PartingField>(rest_mesh_, guides_, groom_.partings);
+  partings_ = std::make_unique<partings::PartingField>(rest_mesh_, guides_, groom_.partings);
   binding_ = std::make_unique<interp::Binding>(
       interp::bind(rest_mesh_, guides_, roots_, groom_.interpolation, partings_->empty() ? nullptr : partings_.get()));
   // The strongest guide of each root (slots are ordered by decreasing weight).
   std::vector<int32_t> nearest_guide(roots_.size(), -1);
   for (size_t r = 0; r < roots_.size(); ++r) nearest_guide[r] = binding_->guide_ids[r * size_t(binding_->k)];
-  effects_ = std::make_unique<interp::EffectStack>(groom_.effects, rest_mesh_, roots_, guides_, nearest_guide);
+  effects_ = std::make_unique<effects::EffectStack>(groom_.effects, rest_mesh_, roots_, guides_, nearest_guide);
 
   if (groom_.dynamics.enabled && options_.guides_cache.empty())
     simulator_ = std::make_unique<dynamics::GuideSimulator>(rest_mesh_, guides_, groom_.dynamics);
@@ -237,10 +237,10 @@ FrameResult Pipeline::produce(int frame) {
   // Growth's skin bounds let the stack's closing skin pass skip the points it moved by less; both
   // search the skin through one grid built for this frame.
   std::vector<float> clearance;
-  std::optional<interp::SkinGrid> skin_grid;
+  std::optional<skin::SkinGrid> skin_grid;
   if (binding_->settings.method == InterpolationSettings::Method::streamline || !effects_->empty())
     skin_grid.emplace(result.mesh, query);
-  const interp::SkinGrid *grid = skin_grid ? &*skin_grid : nullptr;
+  const skin::SkinGrid *grid = skin_grid ? &*skin_grid : nullptr;
   interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance, grid);
   effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands, clearance,
                   grid);

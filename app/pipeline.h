@@ -22,9 +22,13 @@ namespace plume {
 
 namespace interp {
 struct Binding;
+}
+namespace partings {
 class PartingField;
+}
+namespace effects {
 class EffectStack;
-}  // namespace interp
+}
 namespace dynamics {
 class GuideSimulator;
 }
@@ -98,9 +102,9 @@ class Pipeline {
   Guides guides_;
   Roots roots_;
   std::vector<Eigen::Vector2f> root_uvs_;
-  std::unique_ptr<interp::PartingField> partings_;
+  std::unique_ptr<partings::PartingField> partings_;
   std::unique_ptr<interp::Binding> binding_;
-  std::unique_ptr<interp::EffectStack> effects_;
+  std::unique_ptr<effects::EffectStack> effects_;
   std::unique_ptr<dynamics::GuideSimulator> simulator_;
   std::optional<int> simulated_frame_;  // the frame the simulator's state is at
 };

@@ -17,9 +17,9 @@
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
 #include "groom/roots.h"
-#include "interp/check.h"
+#include "check/check.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 #include "io/obj_mesh.h"
 #include "io/strand_file.h"
 
@@ -86,11 +86,11 @@ int main(int argc, char **argv) {
     PartingSettings settings;
     settings.lines = {side_parting(1.0f), side_parting(-1.0f)};
     double build_cpu = 0, plain_cpu = 0, parted_cpu = 0;
-    const double build = median_seconds([&] { interp::PartingField field(mesh, guides400, settings); }, &build_cpu);
+    const double build = median_seconds([&] { partings::PartingField field(mesh, guides400, settings); }, &build_cpu);
     const double plain_bind = median_seconds([&] { interp::bind(mesh, guides400, roots, interpolation); }, &plain_cpu);
     interp::Binding parted;
     const double parted_bind = median_seconds([&] {
-      const interp::PartingField field(mesh, guides400, settings);
+      const partings::PartingField field(mesh, guides400, settings);
       parted = interp::bind(mesh, guides400, roots, interpolation, &field);
     }, &parted_cpu);
     const interp::Binding plain = interp::bind(mesh, guides400, roots, interpolation);
@@ -112,8 +112,8 @@ int main(int argc, char **argv) {
   interp::grow(binding, mesh, query, roots, sintel.strands, options, strands);
 
   double skin_cpu = 0, cross_cpu = 0, all_cpu = 0;
-  interp::CrossingCount crossings;
-  const double cross = median_seconds([&] { crossings = interp::count_crossings(strands, 0.001f, 8); }, &cross_cpu);
+  check::CrossingCount crossings;
+  const double cross = median_seconds([&] { crossings = check::count_crossings(strands, 0.001f, 8); }, &cross_cpu);
   std::printf("%-58s %8.3f %8.3f  (%zu pairs, %.1f piece pairs examined per segment)\n",
               "check: crossings at tolerance 0.001, 100k x 32", cross, cross_cpu, crossings.pairs,
               double(crossings.segment_pairs_examined) / double(strands.point_count() - strands.strand_count()));
@@ -121,11 +121,11 @@ int main(int argc, char **argv) {
 
   std::vector<uint64_t> examples;
   size_t inside = 0;
-  const double skin = median_seconds([&] { inside = interp::count_points_inside(strands, query, 0.0f, 8, examples); }, &skin_cpu);
-  interp::CheckOptions check_options;
+  const double skin = median_seconds([&] { inside = check::count_points_inside(strands, query, 0.0f, 8, examples); }, &skin_cpu);
+  check::CheckOptions check_options;
   check_options.crossing_tolerance = 0.001f;
-  interp::CheckReport report;
-  const double all = median_seconds([&] { report = interp::check_strands(strands, query, check_options, &sintel); }, &all_cpu);
+  check::CheckReport report;
+  const double all = median_seconds([&] { report = check::check_strands(strands, query, check_options, &sintel); }, &all_cpu);
   std::printf("%-58s %8.3f %8.3f  (%zu points inside)\n", "check: points inside the skin, 100k x 32", skin, skin_cpu,
               inside);
   std::printf("%-58s %8.3f %8.3f  (%zu crossing pairs)\n", "check_strands: all checks with guides, 100k x 32", all,

@@ -19,9 +19,9 @@
 #include "groom/groom_scene.h"
 #include "groom/test_fixtures.h"
 #include "groom/roots.h"
-#include "interp/effects.h"
+#include "effects/effects.h"
 #include "interp/interpolate.h"
-#include "interp/skin_grid.h"
+#include "skin/skin_grid.h"
 
 using namespace plume;
 
@@ -104,7 +104,7 @@ int main(int argc, char **argv) {
   options.points_per_strand = points;
 
   const auto t_prepare = std::chrono::steady_clock::now();
-  const interp::EffectStack stack(full_stack(), rest, roots, guides, nearest);
+  const effects::EffectStack stack(full_stack(), rest, roots, guides, nearest);
   const double prepare = seconds_since(t_prepare);
 
   StrandSet strands;
@@ -144,7 +144,7 @@ int main(int argc, char **argv) {
 
     // As the pipeline does it: one skin grid for the frame, shared by growth and the stack.
     t0 = std::chrono::steady_clock::now();
-    const interp::SkinGrid grid(posed, posed_query);
+    const skin::SkinGrid grid(posed, posed_query);
     interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance, &grid);
     const auto t1 = std::chrono::steady_clock::now();
     c0 = cpu_seconds();
@@ -173,7 +173,7 @@ int main(int argc, char **argv) {
   const std::vector<EffectDesc> all = full_stack();
   std::printf("%-34s %10s\n", "one effect alone (+ skin pass)", "CPU s");
   for (size_t e = 0; e < all.size(); ++e) {
-    const interp::EffectStack single({all[e]}, rest, roots, guides, nearest);
+    const effects::EffectStack single({all[e]}, rest, roots, guides, nearest);
     std::vector<double> cpu;
     for (int r = 0; r < std::min(repeats, 3); ++r) {
       interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance);

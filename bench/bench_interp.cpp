@@ -16,7 +16,7 @@
 #include "groom/test_fixtures.h"
 #include "groom/roots.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 
 using namespace plume;
 
@@ -93,7 +93,7 @@ int main() {
   double field_seconds = 0.0;
   {
     const auto start = std::chrono::steady_clock::now();
-    const interp::PartingField field(mesh, guides, one_line);
+    const partings::PartingField field(mesh, guides, one_line);
     field_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%-44s %10.1f ms (once)\n", "parting field, 1 partial line", field_seconds * 1e3);
     double fur_rate = 0.0;
@@ -123,7 +123,7 @@ int main() {
   }
   {
     const auto start = std::chrono::steady_clock::now();
-    const interp::PartingField field(mesh, guides, two_lines);
+    const partings::PartingField field(mesh, guides, two_lines);
     const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     InterpolationSettings settings;
     double bind_cpu = 0.0;

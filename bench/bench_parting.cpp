@@ -15,7 +15,7 @@
 #include "groom/mesh_query.h"
 #include "groom/roots.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 #include "groom/groom_scene.h"
 
 using namespace plume;
@@ -44,7 +44,7 @@ int main() {
   const Guides &guides = scene.guides;
   const Roots &roots = scene.roots;
 
-  const interp::PartingField partings(mesh, guides, groom.partings);
+  const partings::PartingField partings(mesh, guides, groom.partings);
   const interp::Binding plain = interp::bind(mesh, guides, roots, groom.interpolation);
   const interp::Binding parted = interp::bind(mesh, guides, roots, groom.interpolation, &partings);
   interp::GrowOptions options;

@@ -16,7 +16,7 @@
 
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
-#include "interp/check.h"
+#include "check/check.h"
 #include "interp/interpolate.h"
 #include "io/obj_mesh.h"
 #include "io/strand_file.h"
@@ -188,7 +188,7 @@ int main() {
       interp::grow(binding, mesh, query, roots, kept.strands, options, grown);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::vector<uint64_t> examples;
-      const size_t inside = interp::count_points_inside(grown, query, 0.0f, 1, examples);
+      const size_t inside = check::count_points_inside(grown, query, 0.0f, 1, examples);
       std::printf("%-9s %-11s %6zu %7zu %12.2f %10.2f %8.1fms\n", held_out == 0.2 ? "20%" : "40%", name, keep,
                   roots.size(), mean_error_percent(grown, real, points),
                   100.0 * double(inside) / double(grown.point_count()), seconds * 1e3);

@@ -1,5 +1,5 @@
 // Descriptions of the effects stack (Hair Designer "Hair effects"): what the groom file says;
-// interp/ applies them.
+// effects/ applies them.
 #pragma once
 
 #include <Eigen/Core>

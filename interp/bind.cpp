@@ -7,7 +7,7 @@
 
 #include "groom/error.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 
 namespace plume::interp {
 

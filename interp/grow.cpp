@@ -8,10 +8,12 @@
 
 #include "groom/error.h"
 #include "interp/interpolate.h"
-#include "interp/lanes.h"
-#include "interp/skin_guard.h"
+#include "skin/lanes.h"
+#include "skin/skin_guard.h"
 
 namespace plume::interp {
+
+using namespace skin;
 
 namespace {
 

@@ -16,11 +16,17 @@
 #include "groom/roots.h"
 #include "groom/strand_set.h"
 
+namespace plume::skin {
+class SkinGrid;  // skin/skin_grid.h
+}
+namespace plume::partings {
+class PartingField;  // partings/parting_field.h
+}
+
 namespace plume::interp {
 
-class SkinGrid;  // interp/skin_grid.h
-
-class PartingField;
+using partings::PartingField;
+using skin::SkinGrid;
 
 /// Which guides influence each root and how much; computed once on the rest pose. Arrays marked
 /// "#roots * k" hold slot s of root r at index r * k + s; unused slots have guide id -1 and weight 0,

@@ -1,7 +1,9 @@
 #include "interp/interpolate.h"
-#include "interp/skin_guard.h"
+#include "skin/skin_guard.h"
 
 namespace plume::interp {
+
+using namespace skin;
 
 void push_out_of_skin(const MeshQuery &query, float margin, StrandSet &r_strands) {
   const float scale = mesh_scale(query.mesh());

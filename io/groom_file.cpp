@@ -27,7 +27,7 @@ constexpr int max_points_per_strand = 65536;
 /// lengths are bounded like coordinates (groom/limits.h), so sums and squares of them stay finite.
 constexpr float max_number = max_coordinate;
 /// Turn counts (clump twist, curl turns per unit) and noise frequencies: 2 pi x 1000 turns ~ 6283 rad
-/// stays in the range where interp/lanes.h's sin_cos4 is accurate (|x| < 1e4), and a frequency of
+/// stays in the range where skin/lanes.h's sin_cos4 is accurate (|x| < 1e4), and a frequency of
 /// 1000 times a coordinate of 1e6 stays below the 2^31 of the noise lattice's integer cells.
 constexpr float max_turns = 1000.0f;
 constexpr float max_frequency = 1000.0f;

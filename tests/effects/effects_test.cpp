@@ -13,13 +13,13 @@
 #include "effects/effects_fixtures.h"
 #include "groom/groom_scene.h"
 #include "groom/error.h"
-#include "interp/effects.h"
+#include "effects/effects.h"
 #include "interp/interpolate.h"
-#include "interp/noise.h"
-#include "interp/skin_grid.h"
+#include "effects/noise.h"
+#include "skin/skin_grid.h"
 
 using namespace plume;
-using plume::interp::EffectStack;
+using plume::effects::EffectStack;
 
 namespace {
 
@@ -642,7 +642,7 @@ TEST_CASE("with growth's clearance the stack skips proven points and still ends 
 
   // One skin grid shared by growth and the stack, as the pipeline does, gives the same bits as each
   // building its own.
-  const interp::SkinGrid grid(s.mesh, s.query);
+  const skin::SkinGrid grid(s.mesh, s.query);
   StrandSet shared;
   std::vector<float> shared_clearance;
   interp::grow(binding, s.mesh, s.query, s.roots, s.guides.strands, options, shared, &shared_clearance, &grid);
@@ -679,7 +679,7 @@ TEST_CASE("on strands combed down along the skin, the skin pass's proofs change 
 }
 
 TEST_CASE("simplex noise is smooth, bounded and seeded", "[effects]") {
-  const interp::SimplexNoise3 a(1), b(2);
+  const effects::SimplexNoise3 a(1), b(2);
   double differ = 0.0;
   for (int k = 0; k < 20000; ++k) {
     const Eigen::Vector3f p(0.37f * float(k % 97) - 13.0f, 0.11f * float(k % 89), 0.53f * float(k % 83) - 20.0f);
@@ -694,7 +694,7 @@ TEST_CASE("simplex noise is smooth, bounded and seeded", "[effects]") {
   // Four points at once (SIMD lanes) give the bits of one at a time, negative coordinates included.
   int mismatches = 0;
   for (int k = 0; k < 5000; k += 4) {
-    interp::Float4 at[3], channels[3];
+    skin::Float4 at[3], channels[3];
     for (int l = 0; l < 4; ++l) {
       at[0][l] = 0.731f * float(k + l) - 1500.0f;
       at[1][l] = -0.113f * float((k + l) % 71) + 3.0f;

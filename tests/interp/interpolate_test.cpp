@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "interp/check.h"
+#include "check/check.h"
 #include "interp/interp_fixtures.h"
 #include "interp/interpolate.h"
 
@@ -87,11 +87,11 @@ struct CapScene {
   }
 };
 
-// The checker's counts (interp/check.h), as `plume check` reports them.
-size_t checker_crossings(const StrandSet &strands) { return interp::count_crossings(strands, 2e-4f, 0).pairs; }
+// The checker's counts (check/check.h), as `plume check` reports them.
+size_t checker_crossings(const StrandSet &strands) { return check::count_crossings(strands, 2e-4f, 0).pairs; }
 size_t checker_inside(const MeshQuery &query, const StrandSet &strands) {
   std::vector<uint64_t> examples;
-  return interp::count_points_inside(strands, query, 0.0f, 0, examples);
+  return check::count_points_inside(strands, query, 0.0f, 0, examples);
 }
 
 StrandSet grow_all(const interp::Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
@@ -484,12 +484,12 @@ TEST_CASE("a strand's first point is proven outside from earlier strands' first 
   INFO("first points proven: " << rising.first_points_proven << " of " << rising.first_points);
   CHECK(rising.first_points == int64_t(scene.roots.size()));
   CHECK(rising.first_points_proven >= rising.first_points / 2);
-  CHECK(interp::count_points_inside(strands, scene.query, 0.005f, 0, examples) == 0);
+  CHECK(check::count_points_inside(strands, scene.query, 0.005f, 0, examples) == 0);
   // A margin above the first step's rise: every first point is pushed out to it, and no earlier one
   // may spare a later one its push.
   interp::GrowStats pushed;
   const StrandSet kept_out = grow_with(0.05f, pushed);
-  CHECK(interp::count_points_inside(kept_out, scene.query, 0.05f, 0, examples) == 0);
+  CHECK(check::count_points_inside(kept_out, scene.query, 0.05f, 0, examples) == 0);
 }
 
 TEST_CASE("frame coherence: a small guide motion moves no strand point more than 1.5x the guides' motion", "[interp]") {
@@ -595,7 +595,7 @@ TEST_CASE("binding with hard zones: no influence across zones, a zone without gu
   const Guides guides = bind_guides(query, strands, "zones");
   PartingSettings zones;
   zones.zone_source = PartingSettings::ZoneSource::face_groups;
-  const interp::PartingField field(mesh, guides, zones);
+  const partings::PartingField field(mesh, guides, zones);
   const Roots roots = scatter_roots(mesh, 400, 3);
   for (const Method method : {Method::streamline, Method::fur}) {
     const interp::Binding binding = interp::bind(mesh, guides, roots, settings_for(method), &field);
@@ -613,6 +613,6 @@ TEST_CASE("binding with hard zones: no influence across zones, a zone without gu
   StrandSet left;
   for (size_t g = 0; g < 3; ++g) left.append(strands.points(g), g);
   const Guides left_guides = bind_guides(query, left, "left");
-  const interp::PartingField left_field(mesh, left_guides, zones);
+  const partings::PartingField left_field(mesh, left_guides, zones);
   CHECK_THROWS_AS(interp::bind(mesh, left_guides, roots, settings_for(Method::streamline), &left_field), InputError);
 }

@@ -1,17 +1,19 @@
-// Hard zones and partial partings (interp/parting_field.h), and their effect on bind().
+// Hard zones and partial partings (partings/parting_field.h), and their effect on bind().
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
-#include "interp/check.h"
+#include "check/check.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 #include "parting/parting_fixtures.h"
 
 using namespace plume;
 using namespace plume::interp;
+using namespace plume::partings;
+using plume::check::count_cross_zone_influences;
 using plume::test::make_grid;
 using plume::test::make_standing_guides;
 using plume::test::straight_line;

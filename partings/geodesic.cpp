@@ -1,4 +1,4 @@
-#include "interp/geodesic.h"
+#include "partings/geodesic.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <numeric>
 #include <unordered_map>
 
-namespace plume::interp {
+namespace plume::partings {
 
 namespace {
 
@@ -312,4 +312,4 @@ std::vector<uint64_t> polyline_edge_path(const Mesh &mesh, const MeshTopology &t
   return keys;
 }
 
-}  // namespace plume::interp
+}  // namespace plume::partings

@@ -1,4 +1,4 @@
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,9 +10,9 @@
 
 #include "groom/error.h"
 #include "groom/mesh_query.h"
-#include "interp/geodesic.h"
+#include "partings/geodesic.h"
 
-namespace plume::interp {
+namespace plume::partings {
 
 namespace {
 
@@ -398,4 +398,4 @@ float PartingField::weight_factor(const SurfacePoint &root, size_t guide) const 
   return factor;
 }
 
-}  // namespace plume::interp
+}  // namespace plume::partings

@@ -1,13 +1,15 @@
-// The strand checker (interp/check.h): skin, crossings, zones, guide deviation.
+// The strand checker (check/check.h): skin, crossings, zones, guide deviation.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "interp/check.h"
+#include "check/check.h"
 #include "parting/parting_fixtures.h"
 
 using namespace plume;
 using namespace plume::interp;
+using namespace plume::partings;
+using namespace plume::check;
 using plume::test::make_closed_sphere;
 using plume::test::make_grid;
 using plume::test::make_standing_guides;

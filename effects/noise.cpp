@@ -1,13 +1,15 @@
-#include "interp/noise.h"
+#include "effects/noise.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "groom/roots.h"
-#include "interp/lanes.h"
+#include "skin/lanes.h"
 
-namespace plume::interp {
+namespace plume::effects {
+
+using namespace skin;
 
 namespace {
 
@@ -191,4 +193,4 @@ void SimplexNoise3::vector_at4(const Float4 p[3], Float4 r_channels[3]) const {
   for (int channel = 0; channel < 3; ++channel) r_channels[channel] = kScale * sum[channel];
 }
 
-}  // namespace plume::interp
+}  // namespace plume::effects

@@ -6,9 +6,11 @@
 #include <array>
 #include <cstdint>
 
-#include "interp/lanes.h"
+#include "skin/lanes.h"
 
-namespace plume::interp {
+namespace plume::effects {
+
+using skin::Float4;
 
 /// Simplex noise in 3D (Perlin 2001, in Gustavson's formulation) over a lattice of unit spacing,
 /// with a permutation shuffled from `seed` (so two seeds give unrelated fields). Periodic with
@@ -37,4 +39,4 @@ class SimplexNoise3 {
   std::array<int32_t, 512> corner_codes_;
 };
 
-}  // namespace plume::interp
+}  // namespace plume::effects

@@ -12,9 +12,9 @@
 
 #include "groom/mesh.h"
 #include "groom/mesh_query.h"
-#include "interp/lanes.h"
+#include "skin/lanes.h"
 
-namespace plume::interp {
+namespace plume::skin {
 
 class SkinGrid {
  public:
@@ -137,4 +137,4 @@ class SkinGrid {
   std::vector<uint8_t> near_open_edge_;
 };
 
-}  // namespace plume::interp
+}  // namespace plume::skin

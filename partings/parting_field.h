@@ -11,7 +11,7 @@
 #include "groom/mesh.h"
 #include "groom/parting.h"
 
-namespace plume::interp {
+namespace plume::partings {
 
 class PartingField {
  public:
@@ -55,4 +55,4 @@ class PartingField {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace plume::interp
+}  // namespace plume::partings

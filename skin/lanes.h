@@ -1,6 +1,6 @@
 // Four-lane float and int vectors (GCC vector extensions: SSE2 on x86-64, the target's own SIMD
 // elsewhere), eight-lane ones where the build targets AVX (one register), and the few lane-wise
-// functions interp/ needs. Code written once for W lanes reads Lanes<W>. Internal to interp/.
+// functions the stages need (growth, effects, skin queries). Code written once for W lanes reads Lanes<W>.
 #pragma once
 
 #include <cmath>
@@ -12,7 +12,7 @@
 #include <immintrin.h>
 #endif
 
-namespace plume::interp {
+namespace plume::skin {
 
 typedef float Float4 __attribute__((vector_size(16)));
 typedef int32_t Int4 __attribute__((vector_size(16)));
@@ -188,4 +188,4 @@ inline Float4 log4(Float4 x) {
   return f + y + e * 0.693359375f;
 }
 
-}  // namespace plume::interp
+}  // namespace plume::skin

@@ -1,4 +1,4 @@
-#include "interp/check.h"
+#include "check/check.h"
 
 #include <omp.h>
 
@@ -11,7 +11,7 @@
 
 #include "groom/error.h"
 
-namespace plume::interp {
+namespace plume::check {
 
 namespace {
 
@@ -536,4 +536,4 @@ CheckReport check_strands(const StrandSet &strands, const MeshQuery &query, cons
   return report;
 }
 
-}  // namespace plume::interp
+}  // namespace plume::check

@@ -1,9 +1,9 @@
-#include "interp/skin_grid.h"
+#include "skin/skin_grid.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace plume::interp {
+namespace plume::skin {
 
 namespace {
 
@@ -453,4 +453,4 @@ bool SkinGrid::local_signed_distance(const Eigen::Vector3f &p, int hint, float &
   return true;
 }
 
-}  // namespace plume::interp
+}  // namespace plume::skin

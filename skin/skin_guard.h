@@ -1,14 +1,14 @@
 // Keeps the points of one strand out of the skin, point after point, with few closest-point queries.
-// Internal to interp/: used by streamline growth and push_out_of_skin().
+// Used by streamline growth, push_out_of_skin() and the effects stack.
 #pragma once
 
 #include <Eigen/Core>
 #include <algorithm>
 
 #include "groom/mesh_query.h"
-#include "interp/skin_grid.h"
+#include "skin/skin_grid.h"
 
-namespace plume::interp {
+namespace plume::skin {
 
 /// The signed distance to a closed surface is 1-Lipschitz: sd(p) >= sd(q) - |p - q|. Knowing it at
 /// the last queried point q, a point p with sd(q) - |p - q| >= margin is certainly outside by the
@@ -177,4 +177,4 @@ inline float mesh_scale(const Mesh &mesh) {
   return mesh.positions.empty() ? 0.0f : (hi - lo).norm();
 }
 
-}  // namespace plume::interp
+}  // namespace plume::skin

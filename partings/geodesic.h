@@ -10,7 +10,7 @@
 
 #include "groom/mesh.h"
 
-namespace plume::interp {
+namespace plume::partings {
 
 /// Triangle adjacency of a mesh, with vertices welded by exact position (so a mesh split along
 /// UV seams is still one surface). An edge shared by more than two triangles is a border.
@@ -79,4 +79,4 @@ class GeodesicGraph {
 std::vector<uint64_t> polyline_edge_path(const Mesh &mesh, const MeshTopology &topology,
                                          std::span<const SurfacePoint> snapped, bool closed);
 
-}  // namespace plume::interp
+}  // namespace plume::partings

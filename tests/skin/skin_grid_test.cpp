@@ -10,10 +10,10 @@
 #include "groom/roots.h"
 #include "groom/test_fixtures.h"
 #include "groom/groom_scene.h"
-#include "interp/check.h"
+#include "check/check.h"
 #include "interp/interpolate.h"
-#include "interp/skin_grid.h"
-#include "interp/skin_guard.h"
+#include "skin/skin_grid.h"
+#include "skin/skin_guard.h"
 #include "io/obj_mesh.h"
 #include "io/strand_file.h"
 
@@ -59,7 +59,7 @@ Mesh square_sheets(std::initializer_list<float> heights) {
 TEST_CASE("skin grid: exact searches agree with the tree, bounds never exceed the distance", "[interp]") {
   const Mesh mesh = test::make_sphere(1.0f, 24, 48);
   const MeshQuery query(mesh);
-  const interp::SkinGrid grid(mesh, query);
+  const skin::SkinGrid grid(mesh, query);
   int exact_local = 0, clear_true = 0, clear_false = 0, block_tight = 0;
   for (const Eigen::Vector3f &p : shell_points(3000)) {
     SurfacePoint truth;
@@ -155,7 +155,7 @@ TEST_CASE("on Sintel's head, folds at the ears included, no strand point ends in
   StrandSet strands;
   interp::grow(binding, mesh, query, roots, guides.strands, options, strands);
   std::vector<uint64_t> examples;
-  CHECK(interp::count_points_inside(strands, query, 0.0f, 8, examples) == 0);
+  CHECK(check::count_points_inside(strands, query, 0.0f, 8, examples) == 0);
   // The case is exercised: roots on triangles whose face normal turns against a corner's normal.
   size_t on_folds = 0;
   for (const SurfacePoint &root : roots.points) {
@@ -185,7 +185,7 @@ TEST_CASE("on Sintel's head, 100k streamline strands leave no point inside the s
   StrandSet strands;
   interp::grow(binding, mesh, query, roots, guides.strands, options, strands);
   std::vector<uint64_t> examples;
-  CHECK(interp::count_points_inside(strands, query, 0.0f, 8, examples) == 0);
+  CHECK(check::count_points_inside(strands, query, 0.0f, 8, examples) == 0);
 }
 
 // Two layers of skin 0.03 apart, both facing +z (like a flap lying over the head): a point between
@@ -194,7 +194,7 @@ TEST_CASE("on Sintel's head, 100k streamline strands leave no point inside the s
 TEST_CASE("skin grid: between two overlapping layers the side is the tree's", "[interp]") {
   const Mesh mesh = square_sheets({0.0f, 0.03f});
   const MeshQuery query(mesh);
-  const interp::SkinGrid grid(mesh, query);
+  const skin::SkinGrid grid(mesh, query);
   int disagree = 0, inside = 0;
   for (int k = 0; k < 4000; ++k) {
     const uint64_t h = hash64(uint64_t(k) + 77);
@@ -218,7 +218,7 @@ TEST_CASE("skin guard: past the open edge of a sheet the side is the checker's, 
   // may clear them.
   const Mesh mesh = square_sheets({0.0f});
   const MeshQuery query(mesh);
-  const interp::SkinGrid grid(mesh, query);
+  const skin::SkinGrid grid(mesh, query);
   const float margin = 0.02f;
   int inside_before = 0, inside_after = 0;
   for (int k = 0; k < 200; ++k) {
@@ -230,7 +230,7 @@ TEST_CASE("skin guard: past the open edge of a sheet the side is the checker's, 
     const Eigen::Vector3f above(1.0f, y, 0.3f);
     Eigen::Vector3f p(1.0f + 0.3f * std::cos(below), y, -0.3f * std::sin(below));
     inside_before += query.signed_distance(p) < 0.0f;
-    interp::SkinGuard guard(query, margin, 2.0f, &grid);
+    skin::SkinGuard guard(query, margin, 2.0f, &grid);
     guard.start_anywhere(above);
     guard.keep_out(p);
     inside_after += query.signed_distance(p) < margin * (1.0f - 1e-3f);

@@ -12,9 +12,12 @@
 #include "groom/roots.h"
 #include "groom/strand_set.h"
 #include "interp/interpolate.h"
-#include "interp/parting_field.h"
+#include "partings/parting_field.h"
 
-namespace plume::interp {
+namespace plume::check {
+
+using interp::Binding;
+using partings::PartingField;
 
 struct CheckOptions {
   /// Two strands cross when a segment of one comes within this distance (scene units) of a segment
@@ -123,4 +126,4 @@ CheckReport check_strands(const StrandSet &strands, const MeshQuery &query, cons
                           const Guides *guides = nullptr, const PartingField *partings = nullptr,
                           const Roots *roots = nullptr, const Binding *binding = nullptr);
 
-}  // namespace plume::interp
+}  // namespace plume::check

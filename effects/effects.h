@@ -14,9 +14,13 @@
 #include "groom/roots.h"
 #include "groom/strand_set.h"
 
-namespace plume::interp {
+namespace plume::skin {
+class SkinGrid;  // skin/skin_grid.h
+}
 
-class SkinGrid;  // interp/skin_grid.h
+namespace plume::effects {
+
+using skin::SkinGrid;
 
 /// The rest-pose data a stack needs, computed once: clump assignment, per-root rest frames,
 /// per-root scale (face groups x vertex map). Apply it every frame; `apply` is const and may be
@@ -72,4 +76,4 @@ class EffectStack {
   std::unique_ptr<FrameBuffers> buffers_;
 };
 
-}  // namespace plume::interp
+}  // namespace plume::effects

@@ -1,4 +1,4 @@
-#include "interp/effects.h"
+#include "effects/effects.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -12,12 +12,14 @@
 #include <unordered_map>
 
 #include "groom/error.h"
-#include "interp/lanes.h"
-#include "interp/noise.h"
-#include "interp/skin_grid.h"
-#include "interp/skin_guard.h"
+#include "skin/lanes.h"
+#include "effects/noise.h"
+#include "skin/skin_grid.h"
+#include "skin/skin_guard.h"
 
-namespace plume::interp {
+namespace plume::effects {
+
+using namespace skin;
 
 namespace {
 
@@ -74,7 +76,7 @@ Eigen::Vector3f unit(const Eigen::Vector3f &v) {
   return length_sq > 0.0f ? Eigen::Vector3f(v * (1.0f / std::sqrt(length_sq))) : v;
 }
 
-/// Sine and cosine of one angle, with interp/lanes.h's functions: no C library call, so the same
+/// Sine and cosine of one angle, with skin/lanes.h's functions: no C library call, so the same
 /// bits on every machine (as the stack promises).
 void sin_cos(float x, float &r_sin, float &r_cos) {
   Float4 sine, cosine;
@@ -844,7 +846,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
 
   // The signed distance is 1-Lipschitz, sd(p') >= sd(p) - |p' - p|: a point the stack moved by less than
   // its clearance minus the margin is still outside by the margin, and the guard is only told so. The
-  // others go through growth's skin guard (interp/skin_guard.h): the same bound from the last known
+  // others go through growth's skin guard (skin/skin_guard.h): the same bound from the last known
   // point, then the grid's block bound and a local search started from the last closest triangle (the
   // root's at first), and a push along the normal to the margin when closer.
   if (!clearance.empty() && clearance.size() != r_strands.positions.size())
@@ -1009,4 +1011,4 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
   }
 }
 
-}  // namespace plume::interp
+}  // namespace plume::effects

@@ -33,6 +33,7 @@ void run_preview(const PreviewArgs &args) {
   options.simulation_start = std::min(groom_first_frame(groom), args.frame);
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(single);
+  remove_stale_temp_files(args.out, single);  // what a run killed by SIGKILL left of this picture
   const FrameResult result = pipeline.produce(args.frame);
   PreviewStyle style;
   style.size = args.size;

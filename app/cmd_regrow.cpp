@@ -50,6 +50,9 @@ void run_regrow(const RegrowArgs &args) {
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(range);
+  // What runs killed by SIGKILL left of these outputs goes, now that the run is known to start.
+  remove_stale_temp_files(out, range);
+  remove_stale_temp_files(previews.pattern(), range);
 
   io::StrandWriteOptions write_options;
   write_options.root_uvs = pipeline.root_uvs();

@@ -36,6 +36,8 @@ inline constexpr int kMaxThreads = 1024;
 /// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it). Otherwise OpenMP's
 /// own count stands (OMP_NUM_THREADS, or the hardware threads), at most kMaxThreads: an
 /// OMP_NUM_THREADS above it is an InputError naming the variable, more hardware threads are capped.
+/// An OMP_NUM_THREADS that is not a count (or list of counts) is an InputError, with or without
+/// `threads`.
 void set_thread_count(int threads);
 /// Adds `--threads N`, N in [1, kMaxThreads], to `cmd`.
 void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description);
@@ -89,6 +91,8 @@ class PreviewSchedule {
   std::string path_at(int64_t i, int frame) const;
   /// check_output_locations() for the previews due in `range` (the range given to the constructor).
   void check_locations(const FrameRange &range, const RunInputs &inputs) const;
+  /// The preview pattern, empty when there are no previews.
+  const std::string &pattern() const { return pattern_; }
 
  private:
   std::string what_;

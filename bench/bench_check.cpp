@@ -125,10 +125,12 @@ int main(int argc, char **argv) {
   check::CheckOptions check_options;
   check_options.crossing_tolerance = 0.001f;
   check::CheckReport report;
-  const double all = median_seconds([&] { report = check::check_strands(strands, query, check_options, &sintel); }, &all_cpu);
+  check::CheckInputs inputs;
+  inputs.guides = &sintel;
+  const double all = median_seconds([&] { report = check::check_strands(strands, query, check_options, inputs); }, &all_cpu);
   std::printf("%-58s %8.3f %8.3f  (%zu points inside)\n", "check: points inside the skin, 100k x 32", skin, skin_cpu,
               inside);
   std::printf("%-58s %8.3f %8.3f  (%zu crossing pairs)\n", "check_strands: all checks with guides, 100k x 32", all,
-              all_cpu, report.crossing_pairs);
+              all_cpu, report.crossings.pairs);
   return 0;
 }

@@ -64,9 +64,9 @@ StrandSet random_scene(uint64_t seed, bool clean) {
     if (clean) {
       for (Eigen::Vector3f &q : copy) q += 4.0f * tolerance * Eigen::Vector3f(-along.y(), along.x(), 0.0f);
     } else if (plant < 3) {
-      // Beside it: 0.3 and 0.7 tolerances (touching where the strand is straight enough), 1.6 or 4
-      // (clear, unless the strand bends back toward its copy).
-      const float gap = std::array<float, 4>{0.3f, 0.7f, 1.6f, 4.0f}[random() % 4] * tolerance;
+      // Beside it: 0.3, 0.7 and 0.97 tolerances (touching where the strand is straight enough),
+      // 1.03, 1.6 or 4 (clear, unless the strand bends back toward its copy).
+      const float gap = std::array<float, 6>{0.3f, 0.7f, 0.97f, 1.03f, 1.6f, 4.0f}[random() % 6] * tolerance;
       for (Eigen::Vector3f &q : copy) q += gap * Eigen::Vector3f(-along.y(), along.x(), 0.0f);
     } else {
       // Turned about its middle point: crossing the original there at the turn's angle.
@@ -93,6 +93,7 @@ StrandSet scaled(const StrandSet &strands, float scale) {
 
 TEST_CASE("the checker's crossing count agrees with an exact 2-D test on random planar strand sets", "[check]") {
   size_t exact_pairs = 0, transversal = 0, touching = 0, intersecting = 0, uncertain = 0, clean_scenes = 0;
+  size_t scaled_compared = 0;
   for (uint64_t seed = 1; seed <= 60; ++seed) {
     INFO("seed " << seed);
     // Every fourth scene is clean: combed rows and copies beside them, nothing crossing.
@@ -117,7 +118,12 @@ TEST_CASE("the checker's crossing count agrees with an exact 2-D test on random 
     uncertain += exact.uncertain_pairs;
     clean_scenes += exact.pairs + exact.uncertain_pairs == 0;
 
-    // The same scene at another scale, with its own default tolerance: the same counts.
+    // The same scene at another scale, with its own default tolerance: the same counts. Scaling
+    // rounds the float coordinates (by up to about 2.5e-3 of the tolerance here), so the scenes are
+    // compared where no pair comes within 0.5% of the tolerance or the angle threshold (78 of the
+    // 120 scaled scenes; each is still compared with the exact test above and below).
+    const bool clear_of_rounding =
+        test::exact_crossings(strands, tolerance, kTransversalDegrees, 5e-3).uncertain_pairs == 0;
     for (const float scale : {0.01f, 100.0f}) {
       INFO("scale " << scale);
       const StrandSet other = scaled(strands, scale);
@@ -125,9 +131,13 @@ TEST_CASE("the checker's crossing count agrees with an exact 2-D test on random 
       CHECK(other_tolerance == Approx(scale * tolerance).epsilon(1e-5));
       const CrossingCount other_count = count_crossings(other, other_tolerance, 4);
       const test::ExactCrossings other_exact = test::exact_crossings(other, other_tolerance, kTransversalDegrees);
-      if (exact.uncertain_pairs == 0 && other_exact.uncertain_pairs == 0) {
-        CHECK(other_exact.pairs == exact.pairs);
-        CHECK(other_exact.transversal_pairs == exact.transversal_pairs);
+      // The checker agrees with the exact test on the scaled scene too.
+      CHECK(other_count.pairs >= other_exact.pairs);
+      CHECK(other_count.pairs <= other_exact.pairs + other_exact.uncertain_pairs);
+      CHECK(other_count.transversal_pairs >= other_exact.transversal_pairs);
+      CHECK(other_count.transversal_pairs <= other_exact.transversal_pairs + other_exact.uncertain_pairs);
+      if (clear_of_rounding) {
+        ++scaled_compared;
         CHECK(other_count.pairs == count.pairs);
         CHECK(other_count.transversal_pairs == count.transversal_pairs);
         CHECK(other_count.touching_pairs == count.touching_pairs);
@@ -142,6 +152,9 @@ TEST_CASE("the checker's crossing count agrees with an exact 2-D test on random 
   CHECK(touching > 20);
   CHECK(clean_scenes == 15);
   CHECK(uncertain <= 2);
+  // Most scenes are clear of the rounding band and compared across scales.
+  INFO(scaled_compared << " scaled scenes compared");
+  CHECK(scaled_compared >= 60);
 }
 
 TEST_CASE("the exact 2-D test itself: known intersections, touching and near misses", "[check]") {

@@ -110,6 +110,21 @@ TEST_CASE("check poses the groom's emitter at --frame: an animated frame has no 
   CHECK(wrong["strands_off_groom_roots"] > 300);
   // Without --frame, the groom's first frame (1 here).
   CHECK(check_json(quoted(scratch / "h.0001.hair") + " --groom " + quoted(groom), scratch)["frame"] == 1);
+  // A proxy run (--strands 150, a subset of the groom's roots) is the groom's too: its strands are
+  // found among the groom's first 150 roots, in a format with ids and in one without.
+  for (const std::string format : {"usda", "hair"}) {
+    INFO(format);
+    REQUIRE(run_plume("regrow " + quoted(groom) + " --frames 5 --strands 150 --out " +
+                          quoted(scratch / ("proxy.####." + format)),
+                      scratch)
+                .exit_code == 0);
+    const JsonCheck proxy = check_json(quoted(scratch / ("proxy.0005." + format)) + " --groom " + quoted(groom) +
+                                           " --frame 5 --strict",
+                                       scratch);
+    CHECK(proxy["strand_count"] == 150);
+    CHECK(proxy["strands_off_groom_roots"] == 0);
+    CHECK(proxy.exit_code == 0);
+  }
 
   // An emitter sequence: the head turned by 20 degrees at frame 2, read from an OBJ.
   write_turned_head(scratch / "head.0001.obj", 0.0f);

@@ -66,10 +66,13 @@ std::string pair_list(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) {
   return text;
 }
 
-void print_crossings(const char *title, const check::CrossingCount &count, float degrees) {
+void print_crossings(const char *title, const check::CrossingCount &count, float degrees, bool made_by_effects = false) {
   std::printf("  %s (tolerance %g): %zu transversal (angle above %g degrees), %zu touching (near-parallel)",
               title, double(count.tolerance), count.transversal_pairs, double(degrees), count.touching_pairs);
   if (count.pairs > 0) std::printf(", largest angle %.1f degrees", count.largest_angle_degrees);
+  if (made_by_effects)
+    std::printf("; made by the effects (not crossing before them): %zu, %zu transversal", count.pairs_new,
+                count.transversal_pairs_new);
   std::printf("\n");
   if (!count.transversal_examples.empty())
     std::printf("    transversal: %s\n", pair_list(count.transversal_examples).c_str());
@@ -89,7 +92,7 @@ void print_text(const CheckArgs &args, const CheckedScene &scene, const check::C
   if (report.crossings_before_effects) {
     print_crossings("crossing strand pairs before effects", report.crossings, report.transversal_degrees);
     print_crossings("crossing strand pairs after effects, a figure", report.crossings_after_effects,
-                    report.transversal_degrees);
+                    report.transversal_degrees, true);
   } else {
     print_crossings("crossing strand pairs", report.crossings, report.transversal_degrees);
   }
@@ -215,7 +218,8 @@ class Json {
   bool first_ = true;
 };
 
-void json_crossings(Json &json, const char *key, const check::CrossingCount &count, float degrees) {
+void json_crossings(Json &json, const char *key, const check::CrossingCount &count, float degrees,
+                    bool made_by_effects = false) {
   json.open(key, '{');
   json.number("tolerance", count.tolerance);
   json.number("transversal_degrees", degrees);
@@ -227,6 +231,10 @@ void json_crossings(Json &json, const char *key, const check::CrossingCount &cou
   json.pairs("touching_examples", count.touching_examples);
   json.count("segment_pairs_examined", count.segment_pairs_examined);
   json.count("piece_pairs_binned", count.piece_pairs_binned);
+  if (made_by_effects) {
+    json.count("pairs_made_by_effects", count.pairs_new);
+    json.count("transversal_pairs_made_by_effects", count.transversal_pairs_new);
+  }
   json.close('}');
 }
 
@@ -256,7 +264,7 @@ void print_json(const CheckArgs &args, const CheckedScene &scene, const check::C
   json.boolean("touching_is_violation", report.touching_is_violation);
   json_crossings(json, "crossings", report.crossings, report.transversal_degrees);
   if (report.crossings_before_effects)
-    json_crossings(json, "crossings_after_effects", report.crossings_after_effects, report.transversal_degrees);
+    json_crossings(json, "crossings_after_effects", report.crossings_after_effects, report.transversal_degrees, true);
   else
     json.null("crossings_after_effects");
 

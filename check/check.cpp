@@ -380,7 +380,8 @@ CheckReport check_strands(const StrandSet &strands, const MeshQuery &query, cons
   const float tolerance = crossing_tolerance_for(strands, options);
   report.crossings = count_crossings(*judged, tolerance, options.max_examples, options.transversal_degrees);
   if (inputs.interpolated)
-    report.crossings_after_effects = count_crossings(strands, tolerance, options.max_examples, options.transversal_degrees);
+    report.crossings_after_effects =
+        count_crossings(strands, tolerance, options.max_examples, options.transversal_degrees, inputs.interpolated);
 
   const Roots *grown_roots = inputs.roots && inputs.roots_grown ? inputs.roots : nullptr;
   if (inputs.partings && inputs.roots && inputs.binding) {

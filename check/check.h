@@ -95,6 +95,10 @@ struct CrossingCount {
   /// The max_examples lowest pairs (by strand index) of each kind, as strand ids.
   std::vector<std::pair<uint64_t, uint64_t>> transversal_examples;
   std::vector<std::pair<uint64_t, uint64_t>> touching_examples;
+  /// With `before` given to count_crossings: the pairs (and the transversal ones) that do not cross
+  /// in `before`, the same strands before a change (the effects stack): the crossings it made.
+  size_t pairs_new = 0;
+  size_t transversal_pairs_new = 0;
   /// Segment pairs the spatial grid put side by side (grows with local density, not all pairs).
   size_t segment_pairs_examined = 0;
   /// Piece pairs sharing a grid cell, sum over cells of n (n - 1) / 2: the bound on the work that
@@ -137,7 +141,8 @@ struct CheckReport {
   /// (crossings_before_effects), else of the strands.
   CrossingCount crossings;
   bool crossings_before_effects = false;
-  /// With CheckInputs::interpolated: the strands' own crossings, after the effects (a figure).
+  /// With CheckInputs::interpolated: the strands' own crossings, after the effects (a figure; its
+  /// pairs_new are the pairs the effects made).
   CrossingCount crossings_after_effects;
 
   bool zones_checked = false;
@@ -205,8 +210,10 @@ size_t count_points_inside(const StrandSet &strands, const MeshQuery &query, flo
 /// kCrossingPiecePairsPerSegment per segment (a tolerance near or above the strands' spacing, where
 /// nearly all pairs would be compared), or the grid's entries kCrossingEntriesPerPiece per piece
 /// (strands so far from the origin that their rounding dwarfs the tolerance).
+/// `before` (may be null): the same strands (same count and order) before a change; each crossing
+/// pair is also tested there, by the same rule, for CrossingCount::pairs_new.
 CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t max_examples,
-                              float transversal_degrees = kTransversalDegrees);
+                              float transversal_degrees = kTransversalDegrees, const StrandSet *before = nullptr);
 
 /// (root, guide) slots of `binding` with a non-zero weight whose guide lies in another hard zone than
 /// the root. `roots` are the bound roots, `ids` the strand ids reported for them.

@@ -61,9 +61,13 @@ double segment_abs_cos(const Vector3f &p0, const Vector3f &p1, const Vector3f &q
 
 }  // namespace
 
-CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t max_examples, float transversal_degrees) {
+CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t max_examples, float transversal_degrees,
+                              const StrandSet *before) {
   CrossingCount result;
   result.tolerance = tolerance;
+  if (before && before->offsets != strands.offsets)
+    throw InternalError("count_crossings: the strands before hold other strands (" +
+                        std::to_string(before->strand_count()) + " for " + std::to_string(strands.strand_count()) + ")");
   const size_t strand_count = strands.strand_count();
   // Segment i starts at point segment_start[i]; the last point of each strand starts none.
   std::vector<uint32_t> segment_start, segment_strand;
@@ -305,6 +309,24 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
     if (known.strands != pair) known = scan_pair(segment_strand[i], segment_strand[j], r_block_boxes);
     return known.strands == pair && known.i == i && known.j == j ? &known : nullptr;
   };
+  // Whether strands a and b cross in `before`, by the same rule (all segment pairs, boxes first).
+  const auto crosses_before = [&](uint32_t sa, uint32_t sb) {
+    const auto a = before->points(sa), b = before->points(sb);
+    const bool roots_close = !a.empty() && !b.empty() && (a.front() - b.front()).norm() < tolerance;
+    for (size_t i = 1; i < a.size(); ++i) {
+      const Eigen::Array3f reach = tolerance + 1e-6f * a[i].array().abs().max(a[i - 1].array().abs()) +
+                                   1e-6f * (a[i] - a[i - 1]).array().abs();
+      const Eigen::Array3f low = a[i].array().min(a[i - 1].array()) - reach;
+      const Eigen::Array3f high = a[i].array().max(a[i - 1].array()) + reach;
+      for (size_t j = 1; j < b.size(); ++j) {
+        if ((b[j].array().min(b[j - 1].array()) > high).any() || (b[j].array().max(b[j - 1].array()) < low).any())
+          continue;
+        if (roots_close && (i == 1 || j == 1)) continue;
+        if (segment_distance_squared(a[i - 1], a[i], b[j - 1], b[j]) <= tolerance_squared) return true;
+      }
+    }
+    return false;
+  };
   // Keeps the max_examples lowest pairs in `examples` (ascending).
   const auto keep_example = [&](std::vector<uint64_t> &examples, uint64_t pair) {
     if (examples.size() < max_examples || (!examples.empty() && pair < examples.back())) {
@@ -320,7 +342,7 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
   // memory stays that of the pieces. An exception inside the parallel region would end the program:
   // the first one is kept and thrown after it.
   struct ThreadCount {
-    size_t examined = 0, found = 0, transversal = 0;
+    size_t examined = 0, found = 0, transversal = 0, found_new = 0, transversal_new = 0;
     double smallest_cos = 1.0;
     std::vector<uint64_t> transversal_examples, touching_examples;
   };
@@ -391,11 +413,16 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
             if (!witness) continue;
             ++counts.found;
             counts.smallest_cos = std::min(counts.smallest_cos, witness->smallest_cos);
-            if (witness->smallest_cos < transversal_cos) {
+            const bool transversal = witness->smallest_cos < transversal_cos;
+            if (transversal) {
               ++counts.transversal;
               keep_example(counts.transversal_examples, witness->strands);
             } else {
               keep_example(counts.touching_examples, witness->strands);
+            }
+            if (before && !crosses_before(segment_strand[i], segment_strand[j])) {
+              ++counts.found_new;
+              counts.transversal_new += transversal;
             }
           }
         }
@@ -413,6 +440,8 @@ CrossingCount count_crossings(const StrandSet &strands, float tolerance, size_t 
   for (const ThreadCount &counts : counts_by) {
     result.pairs += counts.found;
     result.transversal_pairs += counts.transversal;
+    result.pairs_new += counts.found_new;
+    result.transversal_pairs_new += counts.transversal_new;
     result.segment_pairs_examined += counts.examined;
     smallest_cos = std::min(smallest_cos, counts.smallest_cos);
     transversal_examples.insert(transversal_examples.end(), counts.transversal_examples.begin(),

@@ -490,6 +490,8 @@ TEST_CASE("with the strands before effects, crossings and guides are judged on t
   CHECK(report.crossings.pairs == 0);
   CHECK(report.crossings_after_effects.pairs == 1);
   CHECK(report.crossings_after_effects.transversal_pairs == 1);
+  CHECK(report.crossings_after_effects.pairs_new == 1);  // the effects made it
+  CHECK(report.crossings_after_effects.transversal_pairs_new == 1);
   CHECK(report.clean());
   // Crossings before the effects are still violations.
   StrandSet crossing = before;
@@ -498,6 +500,8 @@ TEST_CASE("with the strands before effects, crossings and guides are judged on t
   inputs.interpolated = &crossing;
   report = check_strands(after, query, CheckOptions{}, inputs);
   CHECK(report.crossings.transversal_pairs == 1);
+  CHECK(report.crossings_after_effects.pairs == 1);
+  CHECK(report.crossings_after_effects.pairs_new == 0);  // it crossed before the effects already
   CHECK(report.violations() == std::vector<std::string>{"1 transversal crossing pair (before effects)"});
   // Strands before effects that are not the same roots are refused.
   StrandSet other = before;

@@ -210,6 +210,10 @@ TEST_CASE("check judges crossings before the groom's effects, which bring strand
   CHECK(with_groom.text("groom_effects") == "true");
   CHECK(with_groom["crossings_after_effects.transversal_pairs"] > 0);
   CHECK(with_groom["crossings.transversal_pairs"] == 0);
+  // Nothing crossed before the effects: every pair after them is theirs.
+  CHECK(with_groom["crossings_after_effects.pairs_made_by_effects"] == with_groom["crossings_after_effects.pairs"]);
+  CHECK(with_groom["crossings_after_effects.transversal_pairs_made_by_effects"] ==
+        with_groom["crossings_after_effects.transversal_pairs"]);
   CHECK(with_groom["inside_skin.points"] == 0);
   CHECK(with_groom.exit_code == 0);
   // The same groom without effects grows exactly the strands the checker judged.

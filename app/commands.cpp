@@ -45,11 +45,13 @@ bool valid_omp_num_threads(std::string_view text) {
 
 }  // namespace
 
-void set_thread_count(int threads) {
-  // A malformed OMP_NUM_THREADS is bad input even when --threads overrides it.
+void check_omp_num_threads() {
   if (const char *variable = std::getenv("OMP_NUM_THREADS"); variable && !valid_omp_num_threads(variable))
     throw InputError("OMP_NUM_THREADS: expected a whole number of threads >= 1 (or a list such as 4,2), got " +
                      io::detail::quoted(variable));
+}
+
+void set_thread_count(int threads) {
   if (threads > 0) {
     omp_set_num_threads(threads);
     return;

@@ -33,11 +33,14 @@ inline constexpr int kMaxThreads = 1024;
 
 // Shared by the commands.
 
+/// Throws InputError naming the variable when OMP_NUM_THREADS is set to anything but a thread count
+/// as OpenMP reads it (a whole number >= 1, or a list of them such as "4,2"): libgomp only warns
+/// and goes on with its own count. Every command checks it before it runs (main.cpp), with or
+/// without --threads.
+void check_omp_num_threads();
 /// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it). Otherwise OpenMP's
 /// own count stands (OMP_NUM_THREADS, or the hardware threads), at most kMaxThreads: an
 /// OMP_NUM_THREADS above it is an InputError naming the variable, more hardware threads are capped.
-/// An OMP_NUM_THREADS that is not a count (or list of counts) is an InputError, with or without
-/// `threads`.
 void set_thread_count(int threads);
 /// Adds `--threads N`, N in [1, kMaxThreads], to `cmd`.
 void add_threads_option(CLI::App &cmd, int &r_threads, const std::string &description);

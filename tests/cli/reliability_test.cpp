@@ -104,7 +104,7 @@ TEST_CASE("an OMP_NUM_THREADS that is not a thread count is refused, naming the 
   const std::string check = "check " + quoted(sintel_dir() + "/sintel_guides.hair") + " --mesh " +
                             quoted(sintel_dir() + "/sintel.obj");
   for (const std::string value : {"abc", "", "0", "-1", "2,abc", "4 4", "1.5", "99999999999999999999999"}) {
-    for (const std::string &command : {regrow, check, regrow + " --threads 2"}) {
+    for (const std::string &command : {regrow, check, regrow + " --threads 2", "info " + quoted(groom)}) {
       INFO("OMP_NUM_THREADS='" << value << "' plume " << command);
       const RunResult run = run_plume_bounded(command, scratch, 2000000, quoted(value));
       INFO(run.err);

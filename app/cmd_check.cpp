@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/feather_commands.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "check/check.h"
@@ -46,6 +47,9 @@ int run_check(const CheckArgs &args) {
   if (!args.mesh.empty() && io::detail::extension_of(args.mesh) != ".obj")
     throw InputError("--mesh: expected an .obj mesh, got \"" + args.mesh + "\"");
   set_thread_count(args.threads);
+  if (is_vane_mesh_file(args.strands) || (io::detail::extension_of(args.strands) == ".obj" &&
+                                          io::read_obj_file(args.strands).mesh))
+    return run_vane_check(args.strands, mesh_path, args.margin, args.strict);
 
   const StrandSet strands = io::read_strands(args.strands);
   const Mesh mesh = io::read_obj_mesh(mesh_path);
@@ -56,7 +60,11 @@ int run_check(const CheckArgs &args) {
   options.skin_margin = args.margin;
 
   std::optional<Guides> guides;
-  const std::string guides_path = !args.guides.empty() ? args.guides : groom ? groom->guides_path : std::string();
+  // A feather groom's guides are stems, which feathers do not follow point for point: only the skin
+  // and crossings are checked on its curves.
+  const bool feathered = groom && groom->feathers.enabled;
+  const std::string guides_path =
+      !args.guides.empty() ? args.guides : groom && !feathered ? groom->guides_path : std::string();
   if (!guides_path.empty()) guides = bind_guides(query, io::read_strands(guides_path), guides_path);
   if (guides && guides->size() == 0) {
     if (!args.guides.empty()) throw InputError("--guides: " + guides_path + " holds no strands");
@@ -67,7 +75,7 @@ int run_check(const CheckArgs &args) {
   std::unique_ptr<partings::PartingField> partings;
   std::optional<Roots> roots;
   std::optional<interp::Binding> binding;
-  if (groom && guides) {
+  if (groom && guides && !feathered) {
     partings = std::make_unique<partings::PartingField>(mesh, *guides, groom->partings);
     roots = check::roots_of(strands, query);
     binding = interp::bind(mesh, *guides, *roots, groom->interpolation, partings->empty() ? nullptr : partings.get());

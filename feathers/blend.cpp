@@ -44,7 +44,7 @@ std::pair<float, float> ramp_sides(const Ramp &ramp, float t) {
 /// each step kept as two points.
 void blend_barb_lengths(std::span<const VaneDesc *const> vanes, std::span<const float> weights, VaneDesc &r_vane) {
   const size_t n = vanes.size();
-  r_vane.barb_length = blended<float>(n, weights, [&](size_t i) { return vanes[i]->barb_length; });
+  r_vane.barb_length = std::max(0.0f, blended<float>(n, weights, [&](size_t i) { return vanes[i]->barb_length; }));
   std::vector<float> knots;
   for (const VaneDesc *vane : vanes) knots.insert(knots.end(), vane->silhouette.t.begin(), vane->silhouette.t.end());
   r_vane.silhouette = Ramp{};
@@ -58,8 +58,9 @@ void blend_barb_lengths(std::span<const VaneDesc *const> vanes, std::span<const 
     return above ? sides.second : sides.first;
   };
   for (const float t : knots) {
-    const float below = blended<float>(n, weights, [&](size_t i) { return side(i, t, false); });
-    const float above = blended<float>(n, weights, [&](size_t i) { return side(i, t, true); });
+    // Lengths are never negative, not even by rounding.
+    const float below = std::max(0.0f, blended<float>(n, weights, [&](size_t i) { return side(i, t, false); }));
+    const float above = std::max(0.0f, blended<float>(n, weights, [&](size_t i) { return side(i, t, true); }));
     r_vane.silhouette.t.push_back(t);
     r_vane.silhouette.value.push_back(below);
     if (above != below) {
@@ -124,8 +125,10 @@ std::vector<KeyBarb> blend_key_barbs(std::span<const std::vector<KeyBarb>> lists
     for (int c = 0; c < count; ++c)
       key.points[size_t(c)] =
           blended<Eigen::Vector3f>(n, weights, [&](size_t i) -> Eigen::Vector3f { return polygons[i].points[size_t(c)]; });
-    key.plumulaceous = blended<float>(n, weights, [&](size_t i) { return inflated[i][j].plumulaceous; });
-    key.open = blended<float>(n, weights, [&](size_t i) { return inflated[i][j].open; });
+    // Convex blends of values in [0, 1], kept there against rounding.
+    key.plumulaceous =
+        std::clamp(blended<float>(n, weights, [&](size_t i) { return inflated[i][j].plumulaceous; }), 0.0f, 1.0f);
+    key.open = std::clamp(blended<float>(n, weights, [&](size_t i) { return inflated[i][j].open; }), 0.0f, 1.0f);
   }
   return out;
 }
@@ -136,8 +139,15 @@ FeatherTemplate blend_templates(std::span<const FeatherTemplate *const> template
   const size_t n = templates.size();
   const size_t heaviest = size_t(std::max_element(weights.begin(), weights.end()) - weights.begin());
   FeatherTemplate out = *templates[heaviest];
+  // Every scalar parameter's valid range is an interval, so convex blends stay in it up to rounding,
+  // which the clamp to the templates' own range removes.
   auto scalar = [&](float FeatherTemplate::*field) {
-    out.*field = blended<float>(n, weights, [&](size_t i) { return templates[i]->*field; });
+    float lo = templates[0]->*field, hi = lo;
+    for (size_t i = 1; i < n; ++i) {
+      lo = std::min(lo, templates[i]->*field);
+      hi = std::max(hi, templates[i]->*field);
+    }
+    out.*field = std::clamp(blended<float>(n, weights, [&](size_t i) { return templates[i]->*field; }), lo, hi);
   };
   for (float FeatherTemplate::*field :
        {&FeatherTemplate::calamus_length, &FeatherTemplate::calamus_width_ratio, &FeatherTemplate::rachis_length,
@@ -153,8 +163,8 @@ FeatherTemplate blend_templates(std::span<const FeatherTemplate *const> template
       lists[i] = complete_key_barbs(vanes[i]->key_barbs);
     }
     VaneDesc &vane = out.*vane_field;
-    vane.angle_base = blended<float>(n, weights, [&](size_t i) { return vanes[i]->angle_base; });
-    vane.angle_tip = blended<float>(n, weights, [&](size_t i) { return vanes[i]->angle_tip; });
+    vane.angle_base = std::clamp(blended<float>(n, weights, [&](size_t i) { return vanes[i]->angle_base; }), 0.0f, 180.0f);
+    vane.angle_tip = std::clamp(blended<float>(n, weights, [&](size_t i) { return vanes[i]->angle_tip; }), 0.0f, 180.0f);
     blend_barb_lengths(vanes, weights, vane);
     vane.key_barbs = blend_key_barbs(lists, weights);
   }

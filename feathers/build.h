@@ -9,19 +9,10 @@
 #include <vector>
 
 #include "feathers/feather.h"
+#include "groom/feather_frame.h"
 #include "groom/strand_set.h"
 
 namespace plume::feathers {
-
-/// What a curve of a feather is (written per curve as `feather_part`).
-enum class FeatherPart : uint8_t {
-  rachis = 0,
-  left_barb = 1,
-  right_barb = 2,
-  after_rachis = 3,
-  after_left_barb = 4,
-  after_right_barb = 5,
-};
 
 /// How much one feather outputs at a level of detail. Curves come in this order: the rachis (the
 /// calamus base, then rachis_points points from the calamus top to the tip), the left barbs, the
@@ -59,6 +50,9 @@ struct CurvesOut {
   Eigen::Vector2f *uv_barb = nullptr;
   Eigen::Vector2f *uv_vane = nullptr;
   FeatherPart *parts = nullptr;  // one per curve
+  /// Added to every point as it is written (a feather's root): the feather is computed near the
+  /// origin and placed with one rounding, so its shape does not depend on where it is.
+  Eigen::Vector3f offset = Eigen::Vector3f::Zero();
 };
 
 /// Arrays for one feather's vane meshes. Triangle indices are relative to the feather's first
@@ -69,6 +63,8 @@ struct VanesOut {
   Eigen::Vector2f *uv_vane = nullptr;
   Eigen::Vector3i *triangles = nullptr;
   int64_t first_vertex = 0;
+  /// Added to every vertex as it is written (as CurvesOut::offset).
+  Eigen::Vector3f offset = Eigen::Vector3f::Zero();
 };
 
 namespace detail {
@@ -76,8 +72,8 @@ namespace detail {
 /// One barb's points into the arrays: barb_points samples of its Bezier curve at even parameters.
 template <class Pose>
 void emit_barb(const Barb &barb, const Eigen::Vector3f &offset, const Pose &pose_at, int point_count,
-               float barb_width, float rp, float flat_length, Eigen::Vector3f *r_positions, float *r_widths,
-               Eigen::Vector2f *r_uv_barb, Eigen::Vector2f *r_uv_vane) {
+               float barb_width, float rp, float flat_length, const Eigen::Vector3f &placed_at,
+               Eigen::Vector3f *r_positions, float *r_widths, Eigen::Vector2f *r_uv_barb, Eigen::Vector2f *r_uv_vane) {
   const Eigen::Vector3f attach = barb.attach + offset;
   const ShaftPose pose = pose_at(attach.z());
   // The polygon goes to the world first (Bezier curves are affine invariant), then is sampled.
@@ -96,7 +92,7 @@ void emit_barb(const Barb &barb, const Eigen::Vector3f &offset, const Pose &pose
       p += weights[i] * world.points[size_t(i)];
       local += weights[i] * barb.polygon.points[size_t(i)];
     }
-    r_positions[j] = p;
+    r_positions[j] = placed_at + p;
     if (r_widths) r_widths[j] = barb_width * (1.0f - 0.75f * u);
     if (r_uv_barb) r_uv_barb[j] = Eigen::Vector2f(u, rp);
     if (r_uv_vane) {
@@ -119,7 +115,8 @@ void emit_part_curves(const FeatherShape &shape, bool after, const FeatherDetail
   auto rachis_sample = [&](const Eigen::Vector3f &p_feather, float z_own, float v) {
     const Eigen::Vector3f p = p_feather + offset;
     const ShaftPose pose = pose_at(p.z());
-    if (out.positions) out.positions[r_point] = pose.origin + pose.rotation * Eigen::Vector3f(p.x(), p.y(), 0.0f);
+    if (out.positions)
+      out.positions[r_point] = out.offset + (pose.origin + pose.rotation * Eigen::Vector3f(p.x(), p.y(), 0.0f));
     if (out.widths) out.widths[r_point] = shaft_width(f, z_own);
     if (out.uv_barb) out.uv_barb[r_point] = Eigen::Vector2f(0.0f, v);
     if (out.uv_vane) out.uv_vane[r_point] = Eigen::Vector2f(0.5f, z_own / flat_length);
@@ -138,7 +135,7 @@ void emit_part_curves(const FeatherShape &shape, bool after, const FeatherDetail
     for (size_t j = 0; j < positions.size(); ++j) {
       const float rp = positions[j];
       const Barb barb = build_barb(f, keys, vane, rp, int(j), after ? ~shape.seed : shape.seed);
-      emit_barb(barb, offset, pose_at, detail.barb_points, f.barb_width, rp, flat_length,
+      emit_barb(barb, offset, pose_at, detail.barb_points, f.barb_width, rp, flat_length, out.offset,
                 out.positions ? out.positions + r_point : nullptr, out.widths ? out.widths + r_point : nullptr,
                 out.uv_barb ? out.uv_barb + r_point : nullptr, out.uv_vane ? out.uv_vane + r_point : nullptr);
       if (out.parts) out.parts[r_curve] = part;
@@ -161,7 +158,7 @@ void emit_part_vanes(const FeatherShape &shape, bool after, const FeatherDetail 
     for (int r = 0; r < rows; ++r) {
       const float rp = float(r) / float(rows - 1);
       const Barb barb = build_barb(f, keys, vane, rp, -1, shape.seed);
-      emit_barb(barb, offset, pose_at, columns + 1, 0.0f, rp, flat_length,
+      emit_barb(barb, offset, pose_at, columns + 1, 0.0f, rp, flat_length, out.offset,
                 out.positions ? out.positions + r_vertex : nullptr, nullptr,
                 out.uv_barb ? out.uv_barb + r_vertex : nullptr, out.uv_vane ? out.uv_vane + r_vertex : nullptr);
       r_vertex += columns + 1;

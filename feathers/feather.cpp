@@ -173,23 +173,26 @@ ControlPolygon mean_plumulaceous_polygon() {
   return polygon;
 }
 
-ControlPolygon plumulaceous_polygon(uint64_t seed, Vane vane, int index) {
+ControlPolygon plumulaceous_jitter(uint64_t seed, Vane vane, int index) {
   // The table of random vertices (sec. 4.3.1), hashed rather than stored: entry (seed, vane, index)
-  // is the same on every frame, machine and thread. Each vertex is the mean's, jittered: along the
-  // barb by +-0.1, across it (in and out of the vane's plane) by up to +-0.35 of the barb's length.
-  ControlPolygon polygon = mean_plumulaceous_polygon();
+  // is the same on every frame, machine and thread.
+  ControlPolygon jitter;
+  jitter.count = 4;
+  jitter.points[0] = Eigen::Vector3f::Zero();
   const uint64_t barb = hash_combine(hash_combine(seed ^ 0xB4B5ull, uint64_t(vane)), uint64_t(uint32_t(index)));
-  static constexpr float kAcross[4] = {0.0f, 0.3f, 0.35f, 0.25f};
+  static constexpr float kInPlane[4] = {0.0f, 0.3f, 0.35f, 0.25f};
+  static constexpr float kDorsal[4] = {0.0f, 0.8f * plumulaceous_reach, plumulaceous_reach, 0.8f * plumulaceous_reach};
   for (int i = 1; i < 4; ++i) {
     uint64_t h = hash_combine(barb, uint64_t(i));
-    Eigen::Vector3f jitter;
-    for (int axis = 0; axis < 3; ++axis) {
-      jitter[axis] = 2.0f * hash_to_unit(h) - 1.0f;
+    float r[3];
+    for (float &value : r) {
+      value = hash_to_unit(h);
       h = hash64(h);
     }
-    polygon.points[size_t(i)] += Eigen::Vector3f(0.1f * jitter.x(), kAcross[i] * jitter.y(), kAcross[i] * jitter.z());
+    jitter.points[size_t(i)] =
+        Eigen::Vector3f(0.1f * (2.0f * r[0] - 1.0f), kDorsal[i] * r[1], kInPlane[i] * (2.0f * r[2] - 1.0f));
   }
-  return polygon;
+  return jitter;
 }
 
 std::array<Eigen::Vector3f, 4> rachis_control_points(const FeatherTemplate &f) {
@@ -264,7 +267,9 @@ FeatherShape make_shape(const FeatherTemplate &adult, uint64_t seed, float stage
   for (const Vane vane : {Vane::left, Vane::right})
     shape.main_keys[size_t(vane)] =
         complete_key_barbs(vane == Vane::left ? shape.main.left.key_barbs : shape.main.right.key_barbs);
-  shape.has_after = adult.afterfeather > 0.0f;
+  // A blend of types with and without one leaves a vanishing afterfeather near the border: below 1%
+  // of the feather there is none (a size of 1e-9 would give a feather a barb of nothing).
+  shape.has_after = adult.afterfeather >= kSmallestAfterfeather;
   if (shape.has_after) {
     shape.after = afterfeather_template(shape.main);
     shape.after_positions = barb_positions(afterfeather_template(adult));
@@ -279,15 +284,14 @@ Barb build_barb(const FeatherTemplate &f, std::span<const KeyBarb> keys, Vane va
   const VaneDesc &desc = vane == Vane::left ? f.left : f.right;
   const KeyBarbBlend blend = interpolate_key_barbs(keys, rp);
   ControlPolygon polygon = blend.polygon;
-  if (blend.plumulaceous > 0.0f) {
-    const ControlPolygon fuzz = index >= 0 ? plumulaceous_polygon(seed, vane, index) : mean_plumulaceous_polygon();
-    polygon = lerp_polygons(polygon, fuzz, blend.plumulaceous);
-  }
+  if (blend.plumulaceous > 0.0f) polygon = lerp_polygons(polygon, mean_plumulaceous_polygon(), blend.plumulaceous);
   // The first vertex at the origin; the end-to-end distance clamped to [0, 1]; then the barb's length.
   const Eigen::Vector3f first = polygon.points[0];
   for (int i = 0; i < polygon.count; ++i) polygon.points[size_t(i)] -= first;
   const float reach = polygon.points[size_t(polygon.count - 1)].norm();
-  const float scale = barb_length(desc, rp) / std::max(reach, 1.0f);
+  barb.length = barb_length(desc, rp);
+  barb.plumulaceous = blend.plumulaceous;
+  const float scale = barb.length / std::max(reach, 1.0f);
   for (int i = 0; i < polygon.count; ++i) polygon.points[size_t(i)] *= scale;
   // Turn about barb z so that the curve's midpoint has no dorsal offset: the vector from the barb's
   // root to it then lies in the vane's plane. (The paper takes the control vertex cv_{n/2}; the
@@ -301,6 +305,15 @@ Barb build_barb(const FeatherTemplate &f, std::span<const KeyBarb> keys, Vane va
       Eigen::Vector3f &p = polygon.points[size_t(i)];
       p = Eigen::Vector3f(c * p.x() + s * p.y(), -s * p.x() + c * p.y(), p.z());
     }
+  }
+  // The plumulaceous fuzz, after the shaping, so that it only ever moves barbs dorsally.
+  if (blend.plumulaceous > 0.0f && index >= 0) {
+    ControlPolygon jitter = plumulaceous_jitter(seed, vane, index);
+    const float amount = blend.plumulaceous * barb.length;
+    const int count = std::max(polygon.count, jitter.count);
+    elevate_to(polygon, count);
+    elevate_to(jitter, count);
+    for (int i = 0; i < count; ++i) polygon.points[size_t(i)] += amount * jitter.points[size_t(i)];
   }
   barb.polygon = polygon;
 

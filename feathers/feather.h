@@ -48,11 +48,15 @@ struct KeyBarbBlend {
 };
 KeyBarbBlend interpolate_key_barbs(std::span<const KeyBarb> completed, float rp);
 
-/// The random control vertices of plumulaceous barb `index` of a vane, from the table seeded by
-/// `seed` (the feather's): the same barb gets the same vertices on every frame. 4 vertices, the
-/// first at the origin.
-ControlPolygon plumulaceous_polygon(uint64_t seed, Vane vane, int index);
-/// The mean of those vertices (the vane meshes use it: a card does not show each barb's fuzz).
+/// A plumulaceous barb (B^df1) is the mean shape below with a random jitter added after the barb is
+/// shaped (scaled, tilted): the jitter of barb `index` of a vane comes from the table seeded by
+/// `seed` (the feather's), so the same barb gets the same fuzz on every frame. Its 4 vertices (the
+/// first 0) move a vertex along the barb by up to +-0.1, in the vane's plane by up to +-0.35, and out
+/// of it dorsally only, by up to plumulaceous_reach, per unit of barb length: fuzz never takes a barb
+/// toward the skin.
+ControlPolygon plumulaceous_jitter(uint64_t seed, Vane vane, int index);
+inline constexpr float plumulaceous_reach = 0.25f;
+/// The mean plumulaceous shape (the vane meshes draw it: a card shows no fuzz).
 ControlPolygon mean_plumulaceous_polygon();
 
 /// The rachis's 4 control vertices (sec. 4.3.1): from (0, 0, c_l) to (0, 0, c_l + r_l), the inner
@@ -76,13 +80,17 @@ struct Barb {
   /// Columns: barb-space x (the barb's direction at its barb angle in the vane's plane), y (dorsal),
   /// z (in the plane, toward the tip), in feather space. Mirrored on the left vane.
   Eigen::Matrix3f frame = Eigen::Matrix3f::Identity();
-  /// Barb space: the blend with its plumulaceous part added, the first vertex moved to the origin,
-  /// the end-to-end distance clamped to [0, 1], scaled by the barb length and turned about barb z so
-  /// that the curve's midpoint lies in the vane's plane (the barb leaves the rachis in the plane:
-  /// "This rotation ensures continuity across the rachis").
+  /// Barb space: the blend, blended toward the mean plumulaceous shape by its plumulaceous factor,
+  /// the first vertex moved to the origin, the end-to-end distance clamped to [0, 1], scaled by the
+  /// barb length and turned about barb z so that the curve's midpoint lies in the vane's plane (the
+  /// barb leaves the rachis in the plane: "This rotation ensures continuity across the rachis");
+  /// then the plumulaceous jitter added.
   ControlPolygon polygon;
   /// The barb's angle to the rachis, radians (after the open factor).
   float angle = 0.0f;
+  /// Its plumulaceous factor and length (the jitter is plumulaceous * length * the table's entry).
+  float plumulaceous = 0.0f;
+  float length = 0.0f;
   /// The same barb on the flat feather (rachis straight along z, no curvature), for vane texture
   /// coordinates: point_flat = attach_flat + frame_flat * p.
   Eigen::Vector3f attach_flat = Eigen::Vector3f::Zero();
@@ -102,6 +110,9 @@ struct FeatherShape {
   /// Seeds the plumulaceous barbs (the feather's stable id, or a template's).
   uint64_t seed = 0;
 };
+
+/// Afterfeathers smaller than this (relative to the feather) are left out.
+inline constexpr float kSmallestAfterfeather = 0.01f;
 
 /// The afterfeather's parameters: the main feather's, lengths and widths scaled by its size, no
 /// calamus, no key barbs (entirely plumulaceous, as afterfeathers are).

@@ -86,7 +86,7 @@ struct FeatherTemplate {
 
 /// The positions of a vane's barbs on the rachis (the same on both vanes): from 0 toward the tip,
 /// each next at the current spacing (linear from spacing_base to spacing_tip) over the rachis
-/// length, while below 1. Empty for a template without a positive rachis length and spacings. Throws
+/// length, while below 1 - 1e-5. Empty for a template without a positive rachis length and spacings. Throws
 /// InputError at the template's loc beyond max_barbs_per_vane.
 std::vector<float> barb_positions(const FeatherTemplate &feather);
 
@@ -156,10 +156,11 @@ struct FeatherDesc {
   int guides_per_feather = 4;
   /// Stem weights ~ 1 / distance^falloff.
   float falloff = 2.0f;
-  /// Keep feathers off the skin: a feather whose vane comes nearer the skin than `clearance` times
-  /// its length is turned up about its root until it clears.
+  /// Keep feathers off the skin: a feather whose vane comes nearer the skin than `clearance` times a
+  /// point's distance from the root is turned up about its root until it clears (and shrunk toward
+  /// its root where no turn clears it).
   bool lift = true;
-  float clearance = 0.02f;
+  float clearance = 0.03f;
   FileLoc loc;
 
   /// Index of a template by name, or -1.

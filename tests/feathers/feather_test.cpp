@@ -155,7 +155,8 @@ TEST_CASE("every barb leaves the rachis in the plane of the vane, at its barb an
     const FeatherShape shape = make_shape(t, seed);
     for (const Vane vane : {Vane::left, Vane::right}) {
       for (size_t j = 0; j < shape.main_positions.size(); ++j) {
-        const Barb barb = build_barb(shape.main, shape.main_keys[size_t(vane)], vane, shape.main_positions[j], int(j), seed);
+        // The mean shape (index -1): a plumulaceous barb's fuzz is added after the tilt.
+        const Barb barb = build_barb(shape.main, shape.main_keys[size_t(vane)], vane, shape.main_positions[j], -1, seed);
         const ControlPolygon &p = barb.polygon;
         CHECK(p.points[0] == Eigen::Vector3f::Zero());
         const Eigen::Vector3f half = bezier_point(p.view(), 0.5f);
@@ -196,11 +197,20 @@ TEST_CASE("a vane without key barbs is plumulaceous, from a table stable across 
   t.right.key_barbs.clear();
   const FeatherShape shape = make_shape(t, 77);
   for (const KeyBarb &key : shape.main_keys[0]) CHECK(key.plumulaceous == 1.0f);
-  const ControlPolygon a = plumulaceous_polygon(77, Vane::left, 5), b = plumulaceous_polygon(77, Vane::left, 5);
-  const ControlPolygon c = plumulaceous_polygon(77, Vane::left, 6), e = plumulaceous_polygon(78, Vane::left, 5);
+  const ControlPolygon a = plumulaceous_jitter(77, Vane::left, 5), b = plumulaceous_jitter(77, Vane::left, 5);
+  const ControlPolygon c = plumulaceous_jitter(77, Vane::left, 6), e = plumulaceous_jitter(78, Vane::left, 5);
   for (int i = 0; i < 4; ++i) CHECK(a.points[size_t(i)] == b.points[size_t(i)]);
   CHECK((a.points[2] - c.points[2]).norm() > 1e-4f);
   CHECK((a.points[2] - e.points[2]).norm() > 1e-4f);
+  // Fuzz only ever moves a barb dorsally: every fuzzy barb lies on or above its mean shape.
+  for (int index = 0; index < 200; ++index) {
+    const Barb fuzzy = build_barb(shape.main, shape.main_keys[0], Vane::left, 0.3f, index, 77);
+    const Barb mean = build_barb(shape.main, shape.main_keys[0], Vane::left, 0.3f, -1, 77);
+    for (int u = 0; u <= 10; ++u) {
+      const float at = float(u) / 10.0f;
+      CHECK(bezier_point(fuzzy.polygon.view(), at).y() >= bezier_point(mean.polygon.view(), at).y() - 1e-6f);
+    }
+  }
   // A down feather built twice is the same to the bit.
   const FeatherGeometry g1 = build_feather(shape, FeatherDetail{}), g2 = build_feather(make_shape(t, 77), FeatherDetail{});
   CHECK(g1.curves.positions == g2.curves.positions);

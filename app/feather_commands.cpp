@@ -9,6 +9,7 @@
 #include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "io/feather_writers.h"
+#include "io/groom_file.h"
 #include "io/file_scan.h"
 #include "io/obj_mesh.h"
 
@@ -122,25 +123,102 @@ void print_vane_mesh_info(const std::string &path) {
               box.max().y(), box.max().z());
 }
 
-int run_vane_check(const std::string &path, const std::string &mesh_path, float margin, bool strict) {
-  const Mesh vanes = io::read_vane_mesh(path);
-  const Mesh skin = io::read_obj_mesh(mesh_path);
+bool is_feather_check(const std::string &path, const std::string &groom_path) {
+  if (!groom_path.empty() && io::read_groom_file(groom_path).feathers.enabled) return true;
+  const std::string ext = io::detail::extension_of(path);
+  if (ext == ".obj") return io::read_obj_file(path).mesh.has_value();
+  if (ext != ".usda" && ext != ".ply") return false;
+  std::string text;
+  try {
+    text = io::detail::read_file_bytes(path);
+  } catch (const InputError &) {
+    return false;  // the strand reader names the problem
+  }
+  if (ext == ".ply") return text.substr(0, std::min<size_t>(text.size(), 4096)).find("property uint feather\n") != std::string::npos;
+  return is_vane_mesh_file(path) || text.find("primvars:feather_id") != std::string::npos;
+}
+
+int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,
+                      std::optional<int> frame, float margin, bool strict, bool json) {
+  Mesh skin;
+  std::string skin_label;
+  if (!groom_path.empty()) {
+    const GroomDesc groom = io::read_groom_file(groom_path);
+    const int at = frame ? *frame : groom_first_frame(groom);
+    skin = posed_emitter(groom, io::read_obj_mesh(groom.emitter_path), at);
+    skin_label = groom.emitter_path + " posed at frame " + std::to_string(at);
+  } else {
+    skin = io::read_obj_mesh(mesh_path);
+    skin_label = mesh_path;
+  }
   const MeshQuery query(skin);
   Eigen::AlignedBox3f box;
   for (const Eigen::Vector3f &p : skin.positions) box.extend(p);
   const float eps = 1e-5f * box.diagonal().norm();
+  // Vane meshes: every vertex; curves: every point, a curve's first point (on the skin or the
+  // rachis) allowed down to -eps.
+  std::vector<Eigen::Vector3f> points;
+  std::vector<bool> first;
+  const bool vanes = is_vane_mesh_file(path) || io::detail::extension_of(path) == ".obj";
+  size_t curve_count = 0, triangle_count = 0;
+  if (vanes) {
+    const Mesh mesh = io::read_vane_mesh(path);
+    points = mesh.positions;
+    first.assign(points.size(), false);
+    triangle_count = mesh.triangle_count();
+  } else {
+    const StrandSet curves = io::read_strands(path);
+    points = curves.positions;
+    first.assign(points.size(), false);
+    for (size_t c = 0; c < curves.strand_count(); ++c) first[size_t(curves.offsets[c])] = true;
+    curve_count = curves.strand_count();
+  }
   size_t below = 0;
   float deepest = 0.0f;
 #pragma omp parallel for schedule(static) reduction(+ : below) reduction(min : deepest)
-  for (int64_t v = 0; v < int64_t(vanes.vertex_count()); ++v) {
-    const float d = query.signed_distance(vanes.positions[size_t(v)]);
-    if (d < margin - eps) ++below;
+  for (int64_t v = 0; v < int64_t(points.size()); ++v) {
+    const float d = query.signed_distance(points[size_t(v)]);
+    if (d < (first[size_t(v)] ? 0.0f : margin) - eps) ++below;
     deepest = std::min(deepest, d);
   }
-  std::printf("%s: vane mesh, %zu vertices, %zu triangles\n", path.c_str(), vanes.vertex_count(), vanes.triangle_count());
-  std::printf("  vertices below the skin (margin %g): %zu (deepest %g)\n", double(margin), below, double(deepest));
+  const int exit_code = strict && below > 0 ? kExitViolations : 0;
+  if (json) {
+    auto quote = [](const std::string &text) {
+      std::string out = "\"";
+      for (const char c : text) {
+        if (c == '"' || c == '\\') out += '\\';
+        if ((unsigned char)c < 32) {
+          char escaped[8];
+          std::snprintf(escaped, sizeof escaped, "\\u%04x", unsigned((unsigned char)c));
+          out += escaped;
+          continue;
+        }
+        out += c;
+      }
+      return out + "\"";
+    };
+    std::printf("{\"file\": %s, \"kind\": \"%s\", \"mesh\": %s, \"curves\": %zu, \"points\": %zu, ", quote(path).c_str(),
+                vanes ? "vane mesh" : "feather curves", quote(skin_label).c_str(), curve_count, points.size());
+    std::printf("\"inside_skin\": {\"points\": %zu, \"margin\": %.9g, \"deepest\": %.9g}, ", below, double(margin),
+                double(deepest));
+    if (below > 0)
+      std::printf("\"violations\": [\"%zu points below the skin\"], ", below);
+    else
+      std::printf("\"violations\": [], ");
+    std::printf("\"clean\": %s, \"strict\": %s, \"exit_code\": %d}\n", below == 0 ? "true" : "false",
+                strict ? "true" : "false", exit_code);
+    return exit_code;
+  }
+  if (vanes)
+    std::printf("%s: vane mesh, %zu vertices, %zu triangles, against %s\n", path.c_str(), points.size(), triangle_count,
+                skin_label.c_str());
+  else
+    std::printf("%s: feather curves, %zu curves, %zu points, against %s\n", path.c_str(), curve_count, points.size(),
+                skin_label.c_str());
+  std::printf("  points below the skin (margin %g): %zu (deepest %g)\n", double(margin), below, double(deepest));
+  std::printf("  feather against feather: not judged by this check\n");
   std::printf("  %s\n", below == 0 ? "clean" : "VIOLATIONS");
-  return strict && below > 0 ? kExitViolations : 0;
+  return exit_code;
 }
 
 }  // namespace plume

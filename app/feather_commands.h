@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "groom/groom_desc.h"
@@ -37,12 +38,22 @@ void run_feather_preview(const GroomDesc &groom, int frame, const std::string &o
 /// strand readers do not read.
 bool is_vane_mesh_file(const std::string &path);
 
+/// True when `plume check` should judge `path` as feathers: vane meshes (.usda or an OBJ with faces),
+/// feather curves Plume wrote (.usda with feather ids, .ply with a feather property), or any file
+/// checked against a feather groom (`groom_path`, may be empty).
+bool is_feather_check(const std::string &path, const std::string &groom_path);
+
 /// `plume info` of a vane mesh file.
 void print_vane_mesh_info(const std::string &path);
 
-/// `plume check` of a vane mesh file against the emitter at its pose: vertices below the skin
-/// (signed distance below margin - eps, eps = 1e-5 x the emitter's bounding-box diagonal, as for
-/// strands). Returns the exit code (kExitViolations under `strict` when there are any).
-int run_vane_check(const std::string &path, const std::string &mesh_path, float margin, bool strict);
+/// `plume check` of feather curves or vane meshes against the emitter at their pose (`mesh_path`, or
+/// the emitter of `groom_path` posed at `frame`, default the groom's first): every point or vertex
+/// below the skin (signed distance below margin - eps, eps = 1e-5 x the emitter's bounding-box
+/// diagonal, as for strands; a curve's first point below -eps). Feather against feather is not
+/// judged here. With `json`, the report is one JSON object: file, kind ("feather curves" or "vane
+/// mesh"), mesh, curves, points, inside_skin {points, margin, deepest}, violations, clean, strict,
+/// exit_code. Returns the exit code (kExitViolations under `strict` when any point is below).
+int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,
+                      std::optional<int> frame, float margin, bool strict, bool json);
 
 }  // namespace plume

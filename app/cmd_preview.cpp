@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/feather_commands.h"
 #include "app/pipeline.h"
 #include "groom/error.h"
 #include "io/groom_file.h"
@@ -26,6 +27,9 @@ void run_preview(const PreviewArgs &args) {
   const FrameRange single{args.frame, args.frame, 1};
   check_output_pattern(args.out, single, "--out", {".png"});
   check_output_locations(args.out, single, "--out", RunInputs(groom, args.guides_cache));
+  if (groom.feathers.enabled)
+    return run_feather_preview(groom, args.frame, args.out, args.size, args.guides, args.threads, args.strands,
+                               args.guides_cache);
   set_thread_count(args.threads);
   PipelineOptions options;
   options.strand_count = args.strands;

@@ -146,6 +146,9 @@ RunInputs::RunInputs(const GroomDesc &groom, const std::string &guides_cache)
   add(groom.roots.file, "the groom's roots.file");
   add(groom.partings.zone_map_path, "the groom's zone map");
   for (const EffectDesc &effect : groom.effects) add(effect.vertex_map_path, "an effect's vertex map");
+  for (const std::string &path : groom.feathers.template_files) add(path, "a feather template file of the groom");
+  add(groom.feathers.follicles.file, "the groom's feathers.follicles.file");
+  add(groom.feathers.follicles.map_path, "the groom's feathers.follicles.map");
 }
 
 std::string RunInputs::input_at(const std::string &path, int frame) const {

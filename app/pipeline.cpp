@@ -34,8 +34,8 @@ Eigen::Quaternionf euler_xyz(const Eigen::Vector3f &degrees) {
          Eigen::AngleAxisf(degrees.x() * kDegrees, Eigen::Vector3f::UnitX());
 }
 
-/// The memory this process may use, in bytes: the machine's physical memory, or less when a
-/// control group (cgroup v2, as farm schedulers set per task) limits it. 0 when unknown.
+}  // namespace
+
 double usable_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGESIZE);
   double usable = pages > 0 && page_size > 0 ? double(pages) * double(page_size) : 0.0;
@@ -53,6 +53,8 @@ double usable_memory_bytes() {
   }
   return usable;
 }
+
+namespace {
 
 /// Throws InputError (at `loc`, naming `what`) when regrowing `count` strands of `points` points
 /// would need more memory than this process may use: one frame holds the strands' points, widths and

@@ -126,6 +126,10 @@ class Pipeline {
   std::optional<int> simulated_frame_;  // the frame the simulator's state is at
 };
 
+/// The memory this process may use, in bytes: the machine's physical memory, or less when a
+/// control group (cgroup v2, as farm schedulers set per task) limits it. 0 when unknown.
+double usable_memory_bytes();
+
 /// Writes a guide cache frame (one file, format from the extension of `path`).
 void write_guide_cache(const std::string &path, const StrandSet &guides, int frame);
 

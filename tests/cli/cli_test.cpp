@@ -47,7 +47,9 @@ TEST_CASE("every groom in grooms/ regrows a frame, and info reads what it wrote"
     require_png_of_size(scratch / "preview.png", 800);
     const RunResult info = run_plume("info " + quoted(scratch / "hair.0001.usda"), scratch);
     CHECK(info.exit_code == 0);
-    CHECK(info.out.find("strands    300") != std::string::npos);
+    // A feather groom's 300 follicles grow a rachis and barbs each: more curves than follicles.
+    if (read_text(groom).find("\nfeathers:") == std::string::npos)
+      CHECK(info.out.find("strands    300") != std::string::npos);
     CHECK(info.out.find("points per strand") != std::string::npos);
   }
 }

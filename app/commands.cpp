@@ -112,6 +112,7 @@ RunInputs::RunInputs(const GroomDesc &groom, const std::string &guides_cache)
   add(groom.roots.file, "the groom's roots.file");
   add(groom.partings.zone_map_path, "the groom's zone map");
   for (const EffectDesc &effect : groom.effects) add(effect.vertex_map_path, "an effect's vertex map");
+  for (const ControlDesc &control : groom.controls.controls) add(control.vertex_map_path, "a control's vertex map");
 }
 
 std::string RunInputs::input_at(const std::string &path, int frame) const {

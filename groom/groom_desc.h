@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "groom/control_desc.h"
 #include "groom/dynamics_desc.h"
 #include "groom/effect_desc.h"
 #include "groom/error.h"
@@ -92,6 +93,7 @@ struct GroomDesc {
   PartingSettings partings;
   std::vector<EffectDesc> effects;
   DynamicsSettings dynamics;
+  ControlSettings controls;
   OutputSettings output;
 
   /// Where the dynamics section is written, or the groom file when it has none (for messages).

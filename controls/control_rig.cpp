@@ -229,51 +229,51 @@ void ControlRig::blend_dynamics(const GuidePose &pose, const StrandSet &simulate
   if (r_guides.offsets != offsets_ || simulated.offsets != offsets_)
     throw InternalError("controls: the guides do not match the rig's");
   const int64_t guide_num = int64_t(roots_.size());
-#pragma omp parallel for schedule(static) if (guide_num >= kParallelGuides)
-  for (int64_t gi = 0; gi < guide_num; ++gi) {
-    const size_t g = size_t(gi);
-    const int64_t begin = offsets_[g], end = offsets_[g + 1];
-    const float undriven = 1.0f - binding_.total_weight(g);
-    // The simulation's share at a point.
-    auto share = [&](int64_t p) {
-      float s = undriven;
+#pragma omp parallel if (guide_num >= kParallelGuides)
+  {
+    std::vector<float> shares;  // the simulation's share at each point of one guide (reused)
+#pragma omp for schedule(static)
+    for (int64_t gi = 0; gi < guide_num; ++gi) {
+      const size_t g = size_t(gi);
+      const int64_t begin = offsets_[g], end = offsets_[g + 1];
+      shares.assign(size_t(end - begin), 1.0f - binding_.total_weight(g));
       for (int64_t e = binding_.offsets[g]; e < binding_.offsets[g + 1]; ++e) {
         const size_t c = size_t(binding_.controls[size_t(e)]);
-        const float blend = pose.controls[c].blend;
+        const float blend = binding_.weights[size_t(e)] * pose.controls[c].blend;
         if (blend == 0.0f) continue;
-        s += binding_.weights[size_t(e)] * blend * settings_.controls[controls_[c].desc].blend_ramp.at(arc_parameter_[size_t(p)]);
+        const Ramp &ramp = settings_.controls[controls_[c].desc].blend_ramp;
+        for (int64_t p = begin; p < end; ++p) shares[size_t(p - begin)] += blend * ramp.at(arc_parameter_[size_t(p)]);
       }
-      return std::clamp(s, 0.0f, 1.0f);
-    };
-    bool all_rig = true, all_simulated = true;
-    for (int64_t p = begin; p < end; ++p) {
-      const float s = share(p);
-      all_rig = all_rig && s == 0.0f;
-      all_simulated = all_simulated && s == 1.0f;
-    }
-    if (all_rig) continue;
-    if (all_simulated) {
-      std::copy(simulated.positions.begin() + begin, simulated.positions.begin() + end, r_guides.positions.begin() + begin);
-      continue;
-    }
-    // Rebuilt from the root: each segment keeps the rig's length and takes the mixed direction.
-    Eigen::Vector3f *rig = r_guides.positions.data();
-    const Eigen::Vector3f *sim = simulated.positions.data();
-    Eigen::Vector3f previous_rig = rig[begin];
-    rig[begin] += share(begin) * (sim[begin] - rig[begin]);
-    for (int64_t p = begin + 1; p < end; ++p) {
-      const float s = share(p);
-      const Eigen::Vector3f rig_segment = rig[p] - previous_rig;
-      const float length = rig_segment.norm();
-      previous_rig = rig[p];
-      if (!(length > 0.0f)) {
-        rig[p] = rig[p - 1];
+      bool all_rig = true, all_simulated = true;
+      for (float &s : shares) {
+        s = std::clamp(s, 0.0f, 1.0f);
+        all_rig = all_rig && s == 0.0f;
+        all_simulated = all_simulated && s == 1.0f;
+      }
+      if (all_rig) continue;
+      if (all_simulated) {
+        std::copy(simulated.positions.begin() + begin, simulated.positions.begin() + end, r_guides.positions.begin() + begin);
         continue;
       }
-      const Eigen::Vector3f rig_direction = rig_segment / length;
-      const Eigen::Vector3f sim_direction = unit_or(sim[p] - sim[p - 1], rig_direction);
-      const Eigen::Vector3f mixed = unit_or((1.0f - s) * rig_direction + s * sim_direction, rig_direction);
-      rig[p] = rig[p - 1] + length * mixed;
+      // Rebuilt from the root: each segment keeps the rig's length and takes the mixed direction.
+      Eigen::Vector3f *rig = r_guides.positions.data() + begin;
+      const Eigen::Vector3f *sim = simulated.positions.data() + begin;
+      Eigen::Vector3f previous_rig = rig[0];
+      rig[0] += shares[0] * (sim[0] - rig[0]);
+      for (int64_t p = 1; p < end - begin; ++p) {
+        const float s = shares[size_t(p)];
+        const Eigen::Vector3f rig_segment = rig[p] - previous_rig;
+        const float length = rig_segment.norm();
+        previous_rig = rig[p];
+        if (!(length > 0.0f)) {
+          rig[p] = rig[p - 1];
+          continue;
+        }
+        const Eigen::Vector3f rig_direction = rig_segment / length;
+        const Eigen::Vector3f sim_direction = unit_or(sim[p] - sim[p - 1], rig_direction);
+        const Eigen::Vector3f mixed = unit_or((1.0f - s) * rig_direction + s * sim_direction, rig_direction);
+        rig[p] = rig[p - 1] + length * mixed;
+      }
     }
   }
 }

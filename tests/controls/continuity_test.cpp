@@ -219,3 +219,63 @@ TEST_CASE("hard places: a target on the normal, opposite the guide, at the root,
   const StrandSet out = controlled(rig, rest, rest, guides, 1.0);
   for (const Eigen::Vector3f &q : out.positions) REQUIRE(q.allFinite());
 }
+
+// A smoke test over rigs nobody tuned (three controls, random places, reaches, mirrors, keyed offsets
+// and amounts up to every range's end, displacements past the guides' lengths): finite, and no large
+// move in a thousandth of a frame. The sweeps above are the test of continuity frame by frame.
+TEST_CASE("no jump anywhere: random rigs move no guide point by more than 2% of its reach between frames f and "
+          "f + 0.001", "[controls]") {
+  const float size = 1.0f;
+  const Mesh rest = dome_patch(size, 16);
+  size_t steps = 0;
+  double worst = 0.0;
+  for (uint64_t seed = 0; seed < 60; ++seed) {
+    const Guides guides = patch_guides(rest, size, 80, seed + 300);
+    auto unit = [&](uint64_t k) { return hash_to_unit(hash_combine(seed * 977 + 5, k)); };
+    std::vector<ControlDesc> list;
+    for (int i = 0; i < 3; ++i) {
+      const uint64_t b = uint64_t(i) * 64;
+      ControlDesc c = control_at(size * Eigen::Vector3f(2.0f * unit(b) - 1.0f, 0.2f + unit(b + 1), 2.0f * unit(b + 2) - 1.0f),
+                                 unit(b + 3) < 0.3f ? 0.0f : size * (0.4f + 1.2f * unit(b + 3)), ControlDesc::Falloff(i % 3));
+      c.place = unit(b + 4) < 0.5f ? ControlDesc::Place::skin : ControlDesc::Place::space;
+      c.mirror = unit(b + 5) < 0.3f;
+      c.offset.interpolation = KeyInterpolation::smooth;
+      for (int k = 0; k < 4; ++k) {
+        c.offset.frames.push_back(10.0 * k);
+        c.offset.values.push_back(size * Eigen::Vector3f(2.0f * unit(b + 10 + uint64_t(k)) - 1.0f, 2.0f * unit(b + 20 + uint64_t(k)) - 0.8f,
+                                                         2.0f * unit(b + 30 + uint64_t(k)) - 1.0f));
+      }
+      if (unit(b + 6) < 0.6f) {
+        c.lift_by = unit(b + 7) < 0.5f ? ControlDesc::LiftBy::angle : ControlDesc::LiftBy::fraction;
+        const float hi = c.lift_by == ControlDesc::LiftBy::angle ? 180.0f : 1.0f;
+        c.lift = keys({{0, hi * (2.0f * unit(b + 40) - 1.0f)}, {30, hi * (2.0f * unit(b + 41) - 1.0f)}}, KeyInterpolation::smooth);
+      }
+      if (unit(b + 8) < 0.6f) c.aim = keys({{0, unit(b + 42)}, {30, unit(b + 43)}});
+      if (unit(b + 9) < 0.6f) c.direction = keys({{0, 2.0f * unit(b + 44)}, {30, 2.0f * unit(b + 45) - 1.0f}});
+      if (unit(b + 50) < 0.6f) c.random_twist = keys({{0, 180.0f * unit(b + 46)}, {30, 180.0f * unit(b + 47)}});
+      c.twist_seed = seed;
+      list.push_back(c);
+    }
+    const controls::ControlRig rig(rest, guides, settings_of(list, seed % 2 ? ControlSettings::Binding::nearest : ControlSettings::Binding::blend));
+    const StrandSet carried = carry_guides(rest, rest, guides);
+    for (int s = 0; s < 40; ++s) {
+      const double f = 30.0 * unit(1000 + uint64_t(s));
+      const StrandSet a = controlled(rig, rest, rest, guides, f), b = controlled(rig, rest, rest, guides, f + 0.001);
+      for (const Eigen::Vector3f &p : a.positions) REQUIRE(p.allFinite());
+      for (size_t g = 0; g < guides.size(); ++g) {
+        const double reach = (carried.points(g).back() - surface_position(rest, guides.roots[g])).norm();
+        for (size_t j = 0; j < a.points(g).size(); ++j) {
+          const double move = (a.points(g)[j] - b.points(g)[j]).norm() / reach;
+          worst = std::max(worst, move);
+          if (move > 0.02) {
+            INFO("seed " << seed << ", frame " << f << ", guide " << g << ", point " << j << ": moved " << move << " x reach");
+            CHECK(move <= 0.02);
+          }
+        }
+      }
+      ++steps;
+    }
+  }
+  INFO("largest move " << worst << " x reach over " << steps << " steps of 0.001 frame");
+  CHECK(worst < 0.02);
+}

@@ -72,7 +72,6 @@ struct ControlDesc {
   /// (1: along the normal; -1: down onto the skin), or an angle in degrees in [-180, 180].
   enum class LiftBy { fraction, angle } lift_by = LiftBy::fraction;
   Keyed<float> lift;
-  FileLoc lift_loc;
   /// Aim the guide (root to tip) at the control's current position: [0, 1].
   Keyed<float> aim;
   /// Move the tip by the control's displacement since rest times this: [-10, 10].
@@ -84,7 +83,6 @@ struct ControlDesc {
   /// Mix of the simulated guide into the rig-driven one, [0, 1], times `blend_ramp` from root (t = 0)
   /// to tip (t = 1). Needs dynamics.
   Keyed<float> dynamic_blend;
-  FileLoc dynamic_blend_loc;
   Ramp blend_ramp = Ramp::linear(0.0f, 1.0f);
 };
 

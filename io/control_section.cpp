@@ -221,7 +221,6 @@ ControlDesc ControlReader::read_control(const YAML::Node &node, const std::strin
 
   if (m.given("lift")) {
     const YAML::Node lift = m.node("lift");
-    c.lift_loc = node_loc(file_, lift);
     std::optional<YamlMap> own;
     if (lift.IsMap()) {
       YamlMap peek(lift, m.key_path("lift"), file_);
@@ -255,9 +254,8 @@ ControlDesc ControlReader::read_control(const YAML::Node &node, const std::strin
   }
   if (m.given("dynamic_blend")) {
     const YAML::Node blend = m.node("dynamic_blend");
-    c.dynamic_blend_loc = node_loc(file_, blend);
     if (!dynamics)
-      throw InputError(c.dynamic_blend_loc, m.key_path("dynamic_blend") +
+      throw InputError(node_loc(file_, blend), m.key_path("dynamic_blend") +
                                                 ": expected a groom with dynamics (the dynamic blend mixes the simulated guides "
                                                 "into the rig-driven ones), got dynamics off");
     std::optional<YamlMap> own;

@@ -1,8 +1,8 @@
 // Animator controls: posing 10,000 guides x 32 points every frame (the turns at a frame, then the
-// guides turned; the carry before it is not timed), with six controls (one mirrored) and lift, random twist, direction and aim all
-// at once, blended and nearest; the dynamic blend's mix; the binding, once. In-run baseline: the
-// per-frame work without controls, carrying the guides with the skin (carry_guides), which every
-// frame does anyway. Prints medians of repeated runs, the core count, wall and CPU times.
+// guides turned; the carry before it is not timed), with six controls (one mirrored) and lift, random twist, direction
+// and aim all at once, blended and nearest; the dynamic blend's mix; the binding, once. In-run baseline: the per-frame
+// work without controls, carrying the guides with the skin (carry_guides), which every frame does anyway. Prints
+// medians of repeated runs, the core count, wall and CPU times.
 
 #include <omp.h>
 
@@ -142,7 +142,8 @@ struct Timing {
 
 // Median over kRuns of the per-frame time of `work(f)` over every frame; `prepare(f)` runs before
 // each frame, outside the timing.
-Timing time_frames(const std::function<void(int)> &work, const std::function<void(int)> &prepare = [](int) {}) {
+Timing time_frames(
+    const std::function<void(int)> &work, const std::function<void(int)> &prepare = [](int) {}) {
   std::vector<Timing> runs;
   for (int run = 0; run < kRuns; ++run) {
     double wall = 0.0, cpu = 0.0;
@@ -181,8 +182,8 @@ int main() {
     const double ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     size_t entries = rig.binding().controls.size();
     std::printf("%-58s %8s %10.2f %12s %9s  (%zu guide-control pairs)\n",
-                binding == ControlSettings::Binding::blend ? "bind, blend (once)" : "bind, nearest (once)", "1", ms,
-                "", "", entries);
+                binding == ControlSettings::Binding::blend ? "bind, blend (once)" : "bind, nearest (once)", "1", ms, "",
+                "", entries);
   }
 
   const controls::ControlRig blended(head, guides, head_controls(ControlSettings::Binding::blend));
@@ -195,8 +196,8 @@ int main() {
     const Timing baseline = time_frames([&](int f) { carried = carry_guides(head, poses[size_t(f - 1)], guides); });
     // Ratios are to the baseline: what posing the guides adds to what every frame does anyway.
     auto row = [&](const char *name, const Timing &t) {
-      std::printf("%-58s %8d %10.3f %12.3g %9.3f  %.2fx baseline\n", name, threads, t.wall_ms, points / (1e-3 * t.wall_ms),
-                  t.cpu_ms, t.wall_ms / baseline.wall_ms);
+      std::printf("%-58s %8d %10.3f %12.3g %9.3f  %.2fx baseline\n", name, threads, t.wall_ms,
+                  points / (1e-3 * t.wall_ms), t.cpu_ms, t.wall_ms / baseline.wall_ms);
     };
     std::printf("%-58s %8d %10.3f %12.3g %9.3f\n", "baseline: carry the guides with the skin", threads,
                 baseline.wall_ms, points / (1e-3 * baseline.wall_ms), baseline.cpu_ms);
@@ -207,7 +208,8 @@ int main() {
       const Timing turning = time_frames([&](int f) { rig->apply(f, poses[size_t(f - 1)], carried); }, carry);
       row(is_blend ? "controls, blend: the turns at a frame (pose)" : "controls, nearest: the turns at a frame (pose)",
           posing);
-      row(is_blend ? "controls, blend: pose + turn the guides (apply)" : "controls, nearest: pose + turn the guides (apply)",
+      row(is_blend ? "controls, blend: pose + turn the guides (apply)"
+                   : "controls, nearest: pose + turn the guides (apply)",
           turning);
     }
     // The dynamic blend's mix against a stand-in simulation (the carried guides), every guide mixed.

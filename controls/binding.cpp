@@ -25,9 +25,12 @@ float falloff_weight(const ControlDesc &desc, float d) {
   const float x = d / desc.radius;
   if (!(x < 1.0f)) return 0.0f;
   switch (desc.falloff) {
-    case ControlDesc::Falloff::constant: return 1.0f;
-    case ControlDesc::Falloff::linear: return 1.0f - x;
-    case ControlDesc::Falloff::smooth: break;
+    case ControlDesc::Falloff::constant:
+      return 1.0f;
+    case ControlDesc::Falloff::linear:
+      return 1.0f - x;
+    case ControlDesc::Falloff::smooth:
+      break;
   }
   return 1.0f - x * x * (3.0f - 2.0f * x);
 }
@@ -40,7 +43,8 @@ float ControlBinding::total_weight(size_t guide) const {
   return std::min(total, 1.0f);
 }
 
-std::vector<RigControl> place_controls(const ControlSettings &settings, const Mesh &rest_mesh, const MeshQuery &rest_query) {
+std::vector<RigControl> place_controls(const ControlSettings &settings, const Mesh &rest_mesh,
+                                       const MeshQuery &rest_query) {
   std::vector<RigControl> placed;
   auto place = [&](RigControl c) {
     const ControlDesc &desc = settings.controls[c.desc];
@@ -87,8 +91,8 @@ ControlBinding bind_controls(const ControlSettings &settings, const std::vector<
     for (const std::string &name : desc.groups) {
       const int g = rest_mesh.group_index(name);
       if (g < 0)
-        throw InputError(desc.groups_loc, desc.groups_key + ": no face group \"" + name + "\" in the emitter (groups: " +
-                                              rest_mesh.group_list() + ")");
+        throw InputError(desc.groups_loc, desc.groups_key + ": no face group \"" + name +
+                                              "\" in the emitter (groups: " + rest_mesh.group_list() + ")");
       group_masks[i][size_t(g)] = true;
     }
   }
@@ -106,12 +110,14 @@ ControlBinding bind_controls(const ControlSettings &settings, const std::vector<
       const ControlDesc &desc = settings.controls[d];
       distance[c] = (root_position - controls[c].rest_position).norm();
       float w = falloff_weight(desc, distance[c]);
-      if (w > 0.0f && !group_masks[d].empty()) w = group_masks[d][size_t(rest_mesh.triangle_groups[size_t(root.triangle)])] ? w : 0.0f;
+      if (w > 0.0f && !group_masks[d].empty())
+        w = group_masks[d][size_t(rest_mesh.triangle_groups[size_t(root.triangle)])] ? w : 0.0f;
       if (w > 0.0f && !vertex_maps.empty() && !vertex_maps[d].empty()) {
         const Eigen::Vector3i &t = rest_mesh.triangles[size_t(root.triangle)];
         const std::vector<float> &map = vertex_maps[d];
-        w *= std::clamp(root.bary[0] * map[size_t(t[0])] + root.bary[1] * map[size_t(t[1])] + root.bary[2] * map[size_t(t[2])],
-                        0.0f, 1.0f);
+        w *= std::clamp(
+            root.bary[0] * map[size_t(t[0])] + root.bary[1] * map[size_t(t[1])] + root.bary[2] * map[size_t(t[2])],
+            0.0f, 1.0f);
       }
       weight[c] = w;
     }
@@ -121,7 +127,8 @@ ControlBinding bind_controls(const ControlSettings &settings, const std::vector<
       const size_t t = size_t(controls[c].partner);
       const ControlDesc &desc = settings.controls[controls[c].desc];
       bool keep_original = distance[c] < distance[t];
-      if (distance[c] == distance[t]) keep_original = (root_position - desc.mirror_point).dot(desc.mirror_normal) >= 0.0f;
+      if (distance[c] == distance[t])
+        keep_original = (root_position - desc.mirror_point).dot(desc.mirror_normal) >= 0.0f;
       weight[keep_original ? t : c] = 0.0f;
     }
     if (settings.binding == ControlSettings::Binding::nearest) {

@@ -33,7 +33,8 @@ struct RigControl {
 
 /// The groom's controls in order, each mirrored one followed by its twin. Skin controls are bound
 /// to the closest point of `rest_query`'s mesh (`rest_mesh`, normals computed).
-std::vector<RigControl> place_controls(const ControlSettings &settings, const Mesh &rest_mesh, const MeshQuery &rest_query);
+std::vector<RigControl> place_controls(const ControlSettings &settings, const Mesh &rest_mesh,
+                                       const MeshQuery &rest_query);
 
 /// For each guide, the controls that drive it and their weights (compressed rows).
 struct ControlBinding {

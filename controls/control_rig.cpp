@@ -47,7 +47,6 @@ ControlRig::ControlRig(const Mesh &rest_mesh, const Guides &guides, const Contro
   ids_ = strands.ids;
   offsets_ = strands.offsets;
   roots_ = guides.roots;
-  first_segment_.resize(guide_num);
   lift_axis_.resize(guide_num);
   elevation_.resize(guide_num);
   tip_.resize(guide_num);
@@ -65,7 +64,6 @@ ControlRig::ControlRig(const Mesh &rest_mesh, const Guides &guides, const Contro
         break;
       }
     }
-    first_segment_[g] = first;
     tip_[g] = frame.to_local(points.back());
     elevation_[g] = std::asin(std::clamp(first.z(), -1.0f, 1.0f));
     // d x z = (d.y, -d.x, 0): turning d about it moves d toward the normal. A guide straight up the
@@ -80,11 +78,6 @@ ControlRig::ControlRig(const Mesh &rest_mesh, const Guides &guides, const Contro
       arc_parameter_[size_t(strands.offsets[g]) + j] = length > 0.0 ? float(arc / length) : 1.0f;
     }
   }
-}
-
-bool ControlRig::blends_dynamics() const {
-  return std::any_of(settings_.controls.begin(), settings_.controls.end(),
-                     [](const ControlDesc &d) { return !d.dynamic_blend.empty(); });
 }
 
 void ControlRig::pose(double frame, const Mesh &posed_mesh, GuidePose &r_pose) const {
@@ -164,7 +157,8 @@ void ControlRig::pose(double frame, const Mesh &posed_mesh, GuidePose &r_pose) c
       const float fade = std::min(1.0f, distance / (kNearRootFade * reach));
       if (fade > 0.0f) {
         const Eigen::Vector3f from = tip / reach;
-        const Eigen::Vector3f to = at_least_elevation(target / distance, std::min(from.z(), 0.0f), azimuth_of(from, Eigen::Vector3f::UnitX()));
+        const Eigen::Vector3f to =
+            at_least_elevation(target / distance, std::min(from.z(), 0.0f), azimuth_of(from, Eigen::Vector3f::UnitX()));
         Eigen::Quaternionf d = turn_between(from, to);
         if (fade < 1.0f) d = partial_turn(d, fade);
         q = d * q;
@@ -186,8 +180,8 @@ void ControlRig::pose(double frame, const Mesh &posed_mesh, GuidePose &r_pose) c
         const float distance = to_control.norm();
         const float a = binding_.weights[size_t(e)] * state.aim * std::min(1.0f, distance / (kNearRootFade * reach));
         if (!(a > 0.0f)) continue;
-        const Eigen::Vector3f to =
-            at_least_elevation(to_control / distance, std::min(from.z(), 0.0f), azimuth_of(from, Eigen::Vector3f::UnitX()));
+        const Eigen::Vector3f to = at_least_elevation(to_control / distance, std::min(from.z(), 0.0f),
+                                                      azimuth_of(from, Eigen::Vector3f::UnitX()));
         mean += a * swing_from_normal(to).coeffs();
         total += a;
       }
@@ -252,7 +246,8 @@ void ControlRig::blend_dynamics(const GuidePose &pose, const StrandSet &simulate
       }
       if (all_rig) continue;
       if (all_simulated) {
-        std::copy(simulated.positions.begin() + begin, simulated.positions.begin() + end, r_guides.positions.begin() + begin);
+        std::copy(simulated.positions.begin() + begin, simulated.positions.begin() + end,
+                  r_guides.positions.begin() + begin);
         continue;
       }
       // Rebuilt from the root: each segment keeps the rig's length and takes the mixed direction.

@@ -57,8 +57,6 @@ class ControlRig {
   /// The placed controls (each mirrored one followed by its twin).
   const std::vector<RigControl> &controls() const { return controls_; }
   const ControlBinding &binding() const { return binding_; }
-  /// Whether any control has a dynamic blend.
-  bool blends_dynamics() const;
 
   /// The controls at `frame` on `posed_mesh` (the rest mesh's topology, normals computed), and the
   /// turn of every guide. In the root's skin frame (z the normal), with the rest guide's first
@@ -93,10 +91,10 @@ class ControlRig {
   std::vector<int64_t> offsets_;
   std::vector<SurfacePoint> roots_;
   // Per guide, in its root's rest skin frame.
-  std::vector<Eigen::Vector3f> first_segment_;  // unit first segment (+z when the guide has no length)
-  std::vector<Eigen::Vector3f> lift_axis_;      // unit, in the tangent plane
-  std::vector<float> elevation_;                // of the first segment above the tangent plane, radians
-  std::vector<Eigen::Vector3f> tip_;            // the tip from the root's surface point
+  std::vector<Eigen::Vector3f> lift_axis_;  // unit, in the tangent plane
+  std::vector<float> elevation_;            // of the first segment above the tangent plane, radians
+                                            // (pi/2 for a guide of no length)
+  std::vector<Eigen::Vector3f> tip_;        // the tip from the root's surface point
   // Per point: the arc-length parameter on the rest guide, 0 at the root, 1 at the tip.
   std::vector<float> arc_parameter_;
 };

@@ -32,9 +32,11 @@ double evaluate(const std::vector<double> &frames, KeyInterpolation interpolatio
   const double y0 = get(k), y1 = get(k + 1);
   if (interpolation == KeyInterpolation::linear) return y0 + t * (y1 - y0);
   const double s = (y1 - y0) / h;
-  const double m0 = k == 0 ? 0.0 : tangent(frames[k] - frames[k - 1], (y0 - get(k - 1)) / (frames[k] - frames[k - 1]), h, s);
+  const double m0 =
+      k == 0 ? 0.0 : tangent(frames[k] - frames[k - 1], (y0 - get(k - 1)) / (frames[k] - frames[k - 1]), h, s);
   const double m1 =
-      k + 2 == n ? 0.0 : tangent(h, s, frames[k + 2] - frames[k + 1], (get(k + 2) - y1) / (frames[k + 2] - frames[k + 1]));
+      k + 2 == n ? 0.0
+                 : tangent(h, s, frames[k + 2] - frames[k + 1], (get(k + 2) - y1) / (frames[k + 2] - frames[k + 1]));
   // Cubic Hermite basis.
   const double t2 = t * t, t3 = t2 * t;
   const double h00 = 2.0 * t3 - 3.0 * t2 + 1.0, h10 = t3 - 2.0 * t2 + t, h01 = -2.0 * t3 + 3.0 * t2, h11 = t3 - t2;
@@ -46,13 +48,15 @@ double evaluate(const std::vector<double> &frames, KeyInterpolation interpolatio
 }  // namespace
 
 float value_at(const Keyed<float> &keyed, double frame) {
-  return float(evaluate(keyed.frames, keyed.interpolation, [&](size_t k) { return double(keyed.values[k]); }, frame));
+  return float(evaluate(
+      keyed.frames, keyed.interpolation, [&](size_t k) { return double(keyed.values[k]); }, frame));
 }
 
 Eigen::Vector3f value_at(const Keyed<Eigen::Vector3f> &keyed, double frame) {
   Eigen::Vector3f v;
   for (int c = 0; c < 3; ++c)
-    v[c] = float(evaluate(keyed.frames, keyed.interpolation, [&](size_t k) { return double(keyed.values[k][c]); }, frame));
+    v[c] = float(evaluate(
+        keyed.frames, keyed.interpolation, [&](size_t k) { return double(keyed.values[k][c]); }, frame));
   return v;
 }
 

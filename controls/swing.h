@@ -39,13 +39,15 @@ inline Eigen::Quaternionf partial_turn(const Eigen::Quaternionf &q, float t) {
   if (!(s > 0.0f)) return Eigen::Quaternionf::Identity();
   const float half = std::atan2(s, q.w()) * t;
   const Eigen::Vector3f axis = v / s;
-  return Eigen::Quaternionf(std::cos(half), std::sin(half) * axis.x(), std::sin(half) * axis.y(), std::sin(half) * axis.z());
+  return Eigen::Quaternionf(std::cos(half), std::sin(half) * axis.x(), std::sin(half) * axis.y(),
+                            std::sin(half) * axis.z());
 }
 
 /// The unit vector `u` raised, about the normal's plane through it, to at least the elevation whose sine is
 /// `min_sine` (in [-1, 1]); its azimuth is kept. A vector with no azimuth (u = -z) takes
 /// `fallback_azimuth` (a unit vector in the tangent plane). Continuous in u.
-inline Eigen::Vector3f at_least_elevation(const Eigen::Vector3f &u, float min_sine, const Eigen::Vector3f &fallback_azimuth) {
+inline Eigen::Vector3f at_least_elevation(const Eigen::Vector3f &u, float min_sine,
+                                          const Eigen::Vector3f &fallback_azimuth) {
   if (u.z() >= min_sine) return u;
   Eigen::Vector3f across(u.x(), u.y(), 0.0f);
   const float len = across.norm();

@@ -42,16 +42,19 @@ class ControlReader {
   ControlDesc read_control(const YAML::Node &node, const std::string &path, size_t index, bool dynamics);
 
  private:
-  double number_in(const YAML::Node &node, const std::string &path, double lo, double hi, const std::string &what = "") {
+  double number_in(const YAML::Node &node, const std::string &path, double lo, double hi,
+                   const std::string &what = "") {
     const double v = node_number(node, path, file_);
-    if (!(v >= lo && v <= hi)) fail_expected(file_, node, path, (what.empty() ? "a number" : what) + " in " + range_text(lo, hi));
+    if (!(v >= lo && v <= hi))
+      fail_expected(file_, node, path, (what.empty() ? "a number" : what) + " in " + range_text(lo, hi));
     return v;
   }
   Eigen::Vector3f position(const YAML::Node &node, const std::string &path) {
     const Eigen::Vector3f v = node_vec3(node, path, file_);
     for (int i = 0; i < 3; ++i)
       if (!(std::abs(v[i]) <= max_coordinate))
-        fail_expected(file_, node[i], indexed(path, size_t(i)), "a coordinate in " + range_text(-max_coordinate, max_coordinate));
+        fail_expected(file_, node[i], indexed(path, size_t(i)),
+                      "a coordinate in " + range_text(-max_coordinate, max_coordinate));
     return v;
   }
   /// The frame of key `i`, after the previous key's.
@@ -63,7 +66,7 @@ class ControlReader {
   }
   KeyInterpolation interpolation(YamlMap &m) {
     return m.choice("interpolation", "linear", {"linear", "smooth"}) == "smooth" ? KeyInterpolation::smooth
-                                                                                : KeyInterpolation::linear;
+                                                                                 : KeyInterpolation::linear;
   }
   Keyed<float> keys(const YAML::Node &node, const std::string &path, double lo, double hi);
   Keyed<float> amount(const YAML::Node &node, const std::string &path, double lo, double hi,
@@ -105,8 +108,9 @@ Keyed<float> ControlReader::amount(const YAML::Node &node, const std::string &pa
   YamlMap &m = r_map.emplace(node, path, file_);
   if (m.given("amount") == m.given("keys"))
     fail_expected(file_, node, path, "a map with either amount (a number) or keys (a list of [frame, value])");
-  Keyed<float> k = m.given("amount") ? Keyed<float>::constant(float(number_in(m.node("amount"), m.key_path("amount"), lo, hi)))
-                                     : keys(m.node("keys"), m.key_path("keys"), lo, hi);
+  Keyed<float> k = m.given("amount")
+                       ? Keyed<float>::constant(float(number_in(m.node("amount"), m.key_path("amount"), lo, hi)))
+                       : keys(m.node("keys"), m.key_path("keys"), lo, hi);
   k.interpolation = interpolation(m);
   return k;
 }
@@ -114,12 +118,15 @@ Keyed<float> ControlReader::amount(const YAML::Node &node, const std::string &pa
 // [x, y, z], or {keys: [[frame, [x, y, z]], ...], interpolation}.
 Keyed<Eigen::Vector3f> ControlReader::offset(const YAML::Node &node, const std::string &path) {
   if (node.IsSequence()) return Keyed<Eigen::Vector3f>::constant(position(node, path));
-  if (!node.IsMap()) fail_expected(file_, node, path, "a vector [x, y, z] or a map with keys: [[frame, [x, y, z]], ...]");
+  if (!node.IsMap())
+    fail_expected(file_, node, path, "a vector [x, y, z] or a map with keys: [[frame, [x, y, z]], ...]");
   YamlMap m(node, path, file_);
-  if (!m.given("keys")) throw InputError(m.loc(), m.key_path("keys") + ": missing required key (a list of [frame, [x, y, z]])");
+  if (!m.given("keys"))
+    throw InputError(m.loc(), m.key_path("keys") + ": missing required key (a list of [frame, [x, y, z]])");
   const YAML::Node list = m.node("keys");
   const std::string list_path = m.key_path("keys");
-  if (!list.IsSequence() || list.size() == 0) fail_expected(file_, list, list_path, "a list of [frame, [x, y, z]] keys");
+  if (!list.IsSequence() || list.size() == 0)
+    fail_expected(file_, list, list_path, "a list of [frame, [x, y, z]] keys");
   Keyed<Eigen::Vector3f> k;
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node key = list[i];
@@ -160,15 +167,19 @@ void ControlReader::mirror(YamlMap &m, ControlDesc &c) {
   c.mirror = true;
   if (node.IsScalar()) {
     const std::string axis = m.choice("mirror", "", {"x", "y", "z"});
-    c.mirror_normal = axis == "x" ? Eigen::Vector3f::UnitX() : axis == "y" ? Eigen::Vector3f::UnitY() : Eigen::Vector3f::UnitZ();
+    c.mirror_normal = axis == "x"   ? Eigen::Vector3f::UnitX()
+                      : axis == "y" ? Eigen::Vector3f::UnitY()
+                                    : Eigen::Vector3f::UnitZ();
     return;
   }
   if (!node.IsMap()) fail_expected(file_, node, path, "x, y, z or a plane {point: [x, y, z], normal: [x, y, z]}");
   YamlMap plane(node, path, file_);
   if (plane.given("point")) c.mirror_point = position(plane.node("point"), plane.key_path("point"));
-  if (!plane.given("normal")) throw InputError(plane.loc(), plane.key_path("normal") + ": missing required key (a vector [x, y, z])");
+  if (!plane.given("normal"))
+    throw InputError(plane.loc(), plane.key_path("normal") + ": missing required key (a vector [x, y, z])");
   const Eigen::Vector3f normal = position(plane.node("normal"), plane.key_path("normal"));
-  if (!(normal.norm() > 0.0f)) fail_expected(file_, plane.node("normal"), plane.key_path("normal"), "a non-zero vector");
+  if (!(normal.norm() > 0.0f))
+    fail_expected(file_, plane.node("normal"), plane.key_path("normal"), "a non-zero vector");
   c.mirror_normal = normal.normalized();
   plane.finish();
 }
@@ -179,9 +190,12 @@ ControlDesc ControlReader::read_control(const YAML::Node &node, const std::strin
   c.loc = m.loc();
   c.name = m.string("name", "control" + std::to_string(index));
   for (const char ch : c.name)
-    if ((unsigned char)ch < 32 || ch == 127) fail_expected(file_, m.node("name"), m.key_path("name"), "a name without control characters");
-  c.place = m.choice("place", "skin", {"skin", "space"}) == "skin" ? ControlDesc::Place::skin : ControlDesc::Place::space;
-  if (!m.given("position")) throw InputError(m.loc(), m.key_path("position") + ": missing required key (a point [x, y, z])");
+    if ((unsigned char)ch < 32 || ch == 127)
+      fail_expected(file_, m.node("name"), m.key_path("name"), "a name without control characters");
+  c.place =
+      m.choice("place", "skin", {"skin", "space"}) == "skin" ? ControlDesc::Place::skin : ControlDesc::Place::space;
+  if (!m.given("position"))
+    throw InputError(m.loc(), m.key_path("position") + ": missing required key (a point [x, y, z])");
   c.position = position(m.node("position"), m.key_path("position"));
   if (m.given("offset")) c.offset = offset(m.node("offset"), m.key_path("offset"));
 
@@ -190,13 +204,16 @@ ControlDesc ControlReader::read_control(const YAML::Node &node, const std::strin
     const double r = node_number(radius, m.key_path("radius"), file_);
     if (!(r > 0.0 && r <= max_coordinate))
       fail_expected(file_, radius, m.key_path("radius"),
-                    "a number in (0, " + format_number(max_coordinate) + "] (leave radius out for a control that reaches every guide)");
+                    "a number in (0, " + format_number(max_coordinate) +
+                        "] (leave radius out for a control that reaches every guide)");
     c.radius = float(r);
   }
   if (m.given("falloff") && c.radius == 0.0f)
-    throw InputError(node_loc(file_, m.node("falloff")), m.key_path("falloff") + ": not allowed without radius (a control without one reaches every guide at full weight)");
+    throw InputError(node_loc(file_, m.node("falloff")),
+                     m.key_path("falloff") +
+                         ": not allowed without radius (a control without one reaches every guide at full weight)");
   const std::string falloff = m.choice("falloff", "smooth", {"smooth", "linear", "constant"});
-  c.falloff = falloff == "smooth" ? ControlDesc::Falloff::smooth
+  c.falloff = falloff == "smooth"   ? ControlDesc::Falloff::smooth
               : falloff == "linear" ? ControlDesc::Falloff::linear
                                     : ControlDesc::Falloff::constant;
   c.groups = m.string_list("groups");
@@ -208,14 +225,17 @@ ControlDesc ControlReader::read_control(const YAML::Node &node, const std::strin
     const std::string written = m.string("map");
     const YAML::Node map_node = m.node("map");
     if (written.find('\0') != std::string::npos)
-      throw InputError(node_loc(file_, map_node), m.key_path("map") + ": expected a path without a NUL character (\\0)");
+      throw InputError(node_loc(file_, map_node),
+                       m.key_path("map") + ": expected a path without a NUL character (\\0)");
     const fs::path p(written);
     c.vertex_map_path = (p.is_absolute() ? p : folder_ / p).lexically_normal().string();
     c.vertex_map_loc = node_loc(file_, map_node);
     std::error_code ec;
     if (!fs::is_regular_file(c.vertex_map_path, ec))
-      throw InputError(c.vertex_map_loc, m.key_path("map") + ": expected an existing file, got \"" + written + "\" (" +
-                                             c.vertex_map_path + (fs::exists(c.vertex_map_path, ec) ? " is not a regular file)" : " does not exist)"));
+      throw InputError(c.vertex_map_loc,
+                       m.key_path("map") + ": expected an existing file, got \"" + written + "\" (" +
+                           c.vertex_map_path +
+                           (fs::exists(c.vertex_map_path, ec) ? " is not a regular file)" : " does not exist)"));
   }
   mirror(m, c);
 
@@ -255,9 +275,10 @@ ControlDesc ControlReader::read_control(const YAML::Node &node, const std::strin
   if (m.given("dynamic_blend")) {
     const YAML::Node blend = m.node("dynamic_blend");
     if (!dynamics)
-      throw InputError(node_loc(file_, blend), m.key_path("dynamic_blend") +
-                                                ": expected a groom with dynamics (the dynamic blend mixes the simulated guides "
-                                                "into the rig-driven ones), got dynamics off");
+      throw InputError(node_loc(file_, blend),
+                       m.key_path("dynamic_blend") +
+                           ": expected a groom with dynamics (the dynamic blend mixes the simulated guides "
+                           "into the rig-driven ones), got dynamics off");
     std::optional<YamlMap> own;
     c.dynamic_blend = amount(blend, m.key_path("dynamic_blend"), 0.0, 1.0, {"ramp"}, own);
     if (own) {
@@ -276,8 +297,9 @@ void read_controls_section(YamlMap &root, const std::string &groom_file, GroomDe
   YamlMap section = root.map("controls");
   ControlSettings &settings = r_groom.controls;
   settings.loc = section.loc();
-  settings.binding = section.choice("binding", "blend", {"nearest", "blend"}) == "nearest" ? ControlSettings::Binding::nearest
-                                                                                           : ControlSettings::Binding::blend;
+  settings.binding = section.choice("binding", "blend", {"nearest", "blend"}) == "nearest"
+                         ? ControlSettings::Binding::nearest
+                         : ControlSettings::Binding::blend;
   ControlReader reader(groom_file);
   const std::vector<YAML::Node> list = section.sequence("list");
   std::set<std::string> names;
@@ -286,9 +308,9 @@ void read_controls_section(YamlMap &root, const std::string &groom_file, GroomDe
     ControlDesc c = reader.read_control(list[i], path, i, r_groom.dynamics.enabled);
     if (!names.insert(c.name).second || (c.mirror && !names.insert(c.name + ".mirror").second)) {
       const YAML::Node name = list[i]["name"];
-      throw InputError(node_loc(groom_file, name.IsDefined() ? name : list[i]),
-                       path + ".name: expected a name no other control (or mirrored twin, name.mirror) has, got \"" +
-                           c.name + "\"");
+      throw InputError(
+          node_loc(groom_file, name.IsDefined() ? name : list[i]),
+          path + ".name: expected a name no other control (or mirrored twin, name.mirror) has, got \"" + c.name + "\"");
     }
     settings.controls.push_back(std::move(c));
   }
@@ -325,7 +347,8 @@ std::vector<std::vector<float>> read_control_maps(const ControlSettings &setting
       if (used != token.size()) throw InputError(loc, "expected one number per line, got \"" + token + "\"");
       if (!(v >= 0.0f && v <= 1.0f)) throw InputError(loc, "expected a weight in [0, 1], got \"" + token + "\"");
       if (values.size() == vertex_count)
-        throw InputError(loc, "expected " + std::to_string(vertex_count) + " weights (one per emitter vertex), got more");
+        throw InputError(loc,
+                         "expected " + std::to_string(vertex_count) + " weights (one per emitter vertex), got more");
       values.push_back(v);
     }
     if (values.size() != vertex_count)

@@ -92,15 +92,16 @@ TEST_CASE("every behaviour at amount 0 leaves the guides bit-identical", "[contr
   }
 }
 
-TEST_CASE("lift 1 makes each driven guide's first segment parallel to the skin normal (within 0.1 degree)", "[controls]") {
+TEST_CASE("lift 1 makes each driven guide's first segment parallel to the skin normal (within 0.1 degree)",
+          "[controls]") {
   for (const float size : kScales) {
     const Mesh rest = dome_patch(size);
     const Guides guides = patch_guides(rest, size, 600, 4);
     for (const auto binding : {ControlSettings::Binding::nearest, ControlSettings::Binding::blend}) {
       std::vector<ControlDesc> list;
       for (int i = 0; i < 4; ++i) {
-        ControlDesc c = control_at(size * Eigen::Vector3f(i % 2 ? 0.5f : -0.5f, 0.2f, i / 2 ? 0.5f : -0.5f), 0.9f * size,
-                                   ControlDesc::Falloff::constant);
+        ControlDesc c = control_at(size * Eigen::Vector3f(i % 2 ? 0.5f : -0.5f, 0.2f, i / 2 ? 0.5f : -0.5f),
+                                   0.9f * size, ControlDesc::Falloff::constant);
         c.lift = keys({{1, 0.0f}, {10, 1.0f}}, KeyInterpolation::smooth);
         list.push_back(c);
       }
@@ -158,7 +159,8 @@ TEST_CASE("aim points driven tips at the control within 1 degree", "[controls]")
     ControlDesc sky = control_at(size * Eigen::Vector3f(0.4f, 2.5f, -0.3f), 0.0f);
     sky.place = ControlDesc::Place::space;
     sky.aim = keys({{1, 0.0f}, {5, 1.0f}});
-    ControlDesc skin = control_at(size * Eigen::Vector3f(-0.2f, 0.3f, 0.2f), 0.7f * size, ControlDesc::Falloff::constant);
+    ControlDesc skin =
+        control_at(size * Eigen::Vector3f(-0.2f, 0.3f, 0.2f), 0.7f * size, ControlDesc::Falloff::constant);
     skin.aim = keys({{1, 1.0f}});
     skin.offset.frames = {1.0, 8.0};
     skin.offset.values = {size * Eigen::Vector3f(0.0f, 1.0f, 0.0f), size * Eigen::Vector3f(0.5f, 1.5f, 0.0f)};
@@ -252,7 +254,8 @@ TEST_CASE("random twist is seeded and identical in any frame order, and turns gu
     if (shuffle == 2)
       std::sort(order.begin(), order.end(), [](int a, int b) { return hash64(uint64_t(a)) < hash64(uint64_t(b)); });
     const controls::ControlRig fresh(rest, guides, settings_of({c}));
-    for (const int f : order) CHECK(same_bits(controlled(fresh, rest, bent_patch(rest, size, f), guides, f), forward[size_t(f - 1)]));
+    for (const int f : order)
+      CHECK(same_bits(controlled(fresh, rest, bent_patch(rest, size, f), guides, f), forward[size_t(f - 1)]));
   }
   // Another seed gives other turns; the same seed, the same.
   ControlDesc other = c;
@@ -299,7 +302,9 @@ TEST_CASE("guides keep their segment lengths under every behaviour at once", "[c
       c.mirror = i == 2;
       list.push_back(c);
     }
-    const controls::ControlRig rig(rest, guides, settings_of(list, seed % 2 ? ControlSettings::Binding::nearest : ControlSettings::Binding::blend));
+    const controls::ControlRig rig(
+        rest, guides,
+        settings_of(list, seed % 2 ? ControlSettings::Binding::nearest : ControlSettings::Binding::blend));
     for (double frame : {2.0, 4.5, 6.0, 11.0}) {
       const Mesh posed = bent_patch(rest, size, frame);
       const StrandSet before = carry_guides(rest, posed, guides), after = controlled(rig, rest, posed, guides, frame);

@@ -71,18 +71,22 @@ TEST_CASE("blend binding: every control in reach by its falloff, weights scaled 
   const float size = 1.0f;
   const Mesh mesh = dome_patch(size);
   const Guides guides = patch_guides(mesh, size, 300, 3);
-  std::vector<ControlDesc> list = {control_at({-0.3f, 0.2f, 0.0f}, 0.9f), control_at({0.3f, 0.2f, 0.1f}, 0.7f, ControlDesc::Falloff::linear)};
+  std::vector<ControlDesc> list = {control_at({-0.3f, 0.2f, 0.0f}, 0.9f),
+                                   control_at({0.3f, 0.2f, 0.1f}, 0.7f, ControlDesc::Falloff::linear)};
   const ControlSettings settings = settings_of(list);
   const auto binding = controls::bind_controls(settings, placed(settings, mesh), mesh, guides);
   size_t both = 0;
   for (size_t g = 0; g < guides.size(); ++g) {
     const Eigen::Vector3f root = surface_position(mesh, guides.roots[g]);
     double w[2];
-    for (int c = 0; c < 2; ++c) w[c] = expected_falloff(list[size_t(c)].falloff, (root - list[size_t(c)].position).norm(), list[size_t(c)].radius);
+    for (int c = 0; c < 2; ++c)
+      w[c] =
+          expected_falloff(list[size_t(c)].falloff, (root - list[size_t(c)].position).norm(), list[size_t(c)].radius);
     const double total = w[0] + w[1];
     const double scale = total > 1.0 ? 1.0 / total : 1.0;
     double got[2] = {0.0, 0.0};
-    for (int64_t e = binding.offsets[g]; e < binding.offsets[g + 1]; ++e) got[binding.controls[size_t(e)]] = binding.weights[size_t(e)];
+    for (int64_t e = binding.offsets[g]; e < binding.offsets[g + 1]; ++e)
+      got[binding.controls[size_t(e)]] = binding.weights[size_t(e)];
     CHECK(got[0] == Approx(w[0] * scale).margin(1e-5));
     CHECK(got[1] == Approx(w[1] * scale).margin(1e-5));
     CHECK(binding.total_weight(g) <= 1.0f);
@@ -107,7 +111,8 @@ TEST_CASE("face groups and vertex maps restrict a control's guides", "[controls]
     const SurfacePoint &root = guides.roots[g];
     const bool left = mesh.triangle_groups[size_t(root.triangle)] == 1;
     const Eigen::Vector3i &t = mesh.triangles[size_t(root.triangle)];
-    const float mapped = root.bary[0] * map[size_t(t[0])] + root.bary[1] * map[size_t(t[1])] + root.bary[2] * map[size_t(t[2])];
+    const float mapped =
+        root.bary[0] * map[size_t(t[0])] + root.bary[1] * map[size_t(t[1])] + root.bary[2] * map[size_t(t[2])];
     const float expected = left ? mapped : 0.0f;
     CHECK(binding.total_weight(g) == Approx(expected).margin(1e-6));
     driven += expected > 0.0f;
@@ -118,8 +123,9 @@ TEST_CASE("face groups and vertex maps restrict a control's guides", "[controls]
   missing.groups = {"tail"};
   missing.groups_key = "controls.list[0].groups";
   const ControlSettings bad = settings_of({missing});
-  CHECK_THROWS_WITH(controls::bind_controls(bad, placed(bad, mesh), mesh, guides),
-                    Catch::Contains("controls.list[0].groups: no face group \"tail\"") && Catch::Contains("right, left"));
+  CHECK_THROWS_WITH(
+      controls::bind_controls(bad, placed(bad, mesh), mesh, guides),
+      Catch::Contains("controls.list[0].groups: no face group \"tail\"") && Catch::Contains("right, left"));
 }
 
 TEST_CASE("a mirrored control on its own plane drives each guide once, from the side the guide is on", "[controls]") {

@@ -25,8 +25,10 @@ TEST_CASE("bad controls exit with 2, say where, and write nothing", "[controls][
                        << "controls:\n  list:\n    - {position: [0.5, 0, 0.5], groups: [tail], lift: 1}\n";
   run = run_plume("regrow " + quoted(groom) + " --out " + quoted(scratch / "out/h.####.usda"), scratch);
   CHECK(run.exit_code == 2);
-  CHECK(run.err.find("g.groom.yaml:7:41: controls.list[0].groups: no face group \"tail\" in the emitter (groups: scalp, face)") !=
-        std::string::npos);
+  CHECK(
+      run.err.find(
+          "g.groom.yaml:7:41: controls.list[0].groups: no face group \"tail\" in the emitter (groups: scalp, face)") !=
+      std::string::npos);
   CHECK_FALSE(fs::exists(scratch / "out"));
 }
 
@@ -40,10 +42,11 @@ TEST_CASE("plume info lists the controls, and plume simulate caches the guides a
   // The cache holds the guides growth reads: regrowing from it gives the bytes of a run that simulates.
   REQUIRE(run_plume("simulate " + quoted(cat) + " --frames 1-6 --cache " + quoted(scratch / "g.####.hair"), scratch)
               .exit_code == 0);
-  REQUIRE(run_plume("regrow " + quoted(cat) + " --frames 6 --strands 500 --out " + quoted(scratch / "a.####.ply"), scratch)
-              .exit_code == 0);
-  REQUIRE(run_plume("regrow " + quoted(cat) + " --frames 6 --strands 500 --guides-cache " + quoted(scratch / "g.####.hair") +
-                        " --out " + quoted(scratch / "b.####.ply"),
+  REQUIRE(
+      run_plume("regrow " + quoted(cat) + " --frames 6 --strands 500 --out " + quoted(scratch / "a.####.ply"), scratch)
+          .exit_code == 0);
+  REQUIRE(run_plume("regrow " + quoted(cat) + " --frames 6 --strands 500 --guides-cache " +
+                        quoted(scratch / "g.####.hair") + " --out " + quoted(scratch / "b.####.ply"),
                     scratch)
               .exit_code == 0);
   const std::string simulated = read_text(scratch / "a.0006.ply"), cached = read_text(scratch / "b.0006.ply");

@@ -20,9 +20,10 @@ constexpr int kFrames = 48;
 // Runs frames 1..kFrames on the still rest skin (only the controls move) and checks, frame by frame,
 // that no point moved more than `factor` times the angle `turn(g, f)` (radians: how far the sweep
 // turned guide g's target from frame f to f + 1) times its distance from the root, plus rounding.
-void check_sweep(const Mesh &rest, const Guides &guides, const controls::ControlRig &rig, float size,
-                 const std::function<double(size_t, int, const controls::GuidePose &, const controls::GuidePose &)> &turn,
-                 double factor) {
+void check_sweep(
+    const Mesh &rest, const Guides &guides, const controls::ControlRig &rig, float size,
+    const std::function<double(size_t, int, const controls::GuidePose &, const controls::GuidePose &)> &turn,
+    double factor) {
   controls::GuidePose before_pose, after_pose;
   rig.pose(1.0, rest, before_pose);
   StrandSet before = carry_guides(rest, rest, guides);
@@ -41,8 +42,8 @@ void check_sweep(const Mesh &rest, const Guides &guides, const controls::Control
         largest_move = std::max(largest_move, move / size);
         worst_ratio = std::max(worst_ratio, move / allowed);
         if (move > allowed) {
-          INFO("frame " << f << " -> " << f + 1 << ", guide " << g << ", point " << j << ": moved " << move << ", allowed "
-                        << allowed);
+          INFO("frame " << f << " -> " << f + 1 << ", guide " << g << ", point " << j << ": moved " << move
+                        << ", allowed " << allowed);
           CHECK(move <= allowed);
           return;
         }
@@ -65,8 +66,10 @@ double target_turn(const Mesh &rest, const Guides &guides, size_t g, const contr
 
 }  // namespace
 
-TEST_CASE("no flip: an aim control swept through 180 degrees over the guides moves every point by a bounded amount per "
-          "frame", "[controls]") {
+TEST_CASE(
+    "no flip: an aim control swept through 180 degrees over the guides moves every point by a bounded amount per "
+    "frame",
+    "[controls]") {
   for (const float size : {0.01f, 1.0f, 100.0f}) {
     const Mesh rest = dome_patch(size);
     const Guides guides = patch_guides(rest, size, 300, 40);
@@ -90,17 +93,20 @@ TEST_CASE("no flip: an aim control swept through 180 degrees over the guides mov
     for (const ControlDesc &c : {over, around}) {
       const controls::ControlRig rig(rest, guides, settings_of({c}));
       INFO("scale " << size);
-      check_sweep(rest, guides, rig, size,
-                  [&](size_t g, int, const controls::GuidePose &a, const controls::GuidePose &b) {
-                    return target_turn(rest, guides, g, a, b);
-                  },
-                  2.5);
+      check_sweep(
+          rest, guides, rig, size,
+          [&](size_t g, int, const controls::GuidePose &a, const controls::GuidePose &b) {
+            return target_turn(rest, guides, g, a, b);
+          },
+          2.5);
     }
   }
 }
 
-TEST_CASE("no flip: hooked guides lying on a flat skin aimed at a control that circles them at skin height, passing "
-          "behind each", "[controls]") {
+TEST_CASE(
+    "no flip: hooked guides lying on a flat skin aimed at a control that circles them at skin height, passing "
+    "behind each",
+    "[controls]") {
   const float size = 1.0f;
   const Mesh rest = dome_patch(size, 8, 0.0f);
   const MeshQuery query(rest);
@@ -130,15 +136,18 @@ TEST_CASE("no flip: hooked guides lying on a flat skin aimed at a control that c
     c.offset.values.push_back(size * Eigen::Vector3f(1.5f * std::cos(a), 0.0f, 1.5f * std::sin(a)));
   }
   const controls::ControlRig rig(rest, guides, settings_of({c}));
-  check_sweep(rest, guides, rig, size,
-              [&](size_t g, int, const controls::GuidePose &a, const controls::GuidePose &b) {
-                return target_turn(rest, guides, g, a, b);
-              },
-              2.5);
+  check_sweep(
+      rest, guides, rig, size,
+      [&](size_t g, int, const controls::GuidePose &a, const controls::GuidePose &b) {
+        return target_turn(rest, guides, g, a, b);
+      },
+      2.5);
 }
 
-TEST_CASE("no flip: a direction control whose displacement turns through 180 degrees moves every point by a bounded "
-          "amount per frame", "[controls]") {
+TEST_CASE(
+    "no flip: a direction control whose displacement turns through 180 degrees moves every point by a bounded "
+    "amount per frame",
+    "[controls]") {
   const float size = 1.0f;
   const Mesh rest = dome_patch(size);
   const Guides guides = patch_guides(rest, size, 300, 41);
@@ -151,14 +160,15 @@ TEST_CASE("no flip: a direction control whose displacement turns through 180 deg
   }
   const controls::ControlRig rig(rest, guides, settings_of({c}));
   const StrandSet carried = carry_guides(rest, rest, guides);
-  check_sweep(rest, guides, rig, size,
-              [&](size_t g, int, const controls::GuidePose &a, const controls::GuidePose &b) {
-                // The tip's target turns from tip + d(f) to tip + d(f + 1), seen from the root.
-                const Eigen::Vector3f o = surface_position(rest, guides.roots[g]);
-                const Eigen::Vector3f tip = carried.points(g).back() - o;
-                return angle_degrees(tip + a.controls[0].displacement, tip + b.controls[0].displacement) * kPi / 180.0;
-              },
-              2.5);
+  check_sweep(
+      rest, guides, rig, size,
+      [&](size_t g, int, const controls::GuidePose &a, const controls::GuidePose &b) {
+        // The tip's target turns from tip + d(f) to tip + d(f + 1), seen from the root.
+        const Eigen::Vector3f o = surface_position(rest, guides.roots[g]);
+        const Eigen::Vector3f tip = carried.points(g).back() - o;
+        return angle_degrees(tip + a.controls[0].displacement, tip + b.controls[0].displacement) * kPi / 180.0;
+      },
+      2.5);
 }
 
 TEST_CASE("no flip: lift by an angle from -90 to 180 degrees sweeps past the normal smoothly", "[controls]") {
@@ -170,12 +180,15 @@ TEST_CASE("no flip: lift by an angle from -90 to 180 degrees sweeps past the nor
   c.lift = keys({{1, -90.0f}, {double(kFrames), 180.0f}});
   const controls::ControlRig rig(rest, guides, settings_of({c}));
   const double step = 270.0 / (kFrames - 1) * kPi / 180.0;
-  check_sweep(rest, guides, rig, size, [&](size_t, int, const controls::GuidePose &, const controls::GuidePose &) { return step; },
-              1.01);
+  check_sweep(
+      rest, guides, rig, size,
+      [&](size_t, int, const controls::GuidePose &, const controls::GuidePose &) { return step; }, 1.01);
 }
 
-TEST_CASE("hard places: a target on the normal, opposite the guide, at the root, and overlapping controls that pull "
-          "apart stay finite and keep lengths", "[controls]") {
+TEST_CASE(
+    "hard places: a target on the normal, opposite the guide, at the root, and overlapping controls that pull "
+    "apart stay finite and keep lengths",
+    "[controls]") {
   const float size = 1.0f;
   const Mesh rest = dome_patch(size);
   const Guides guides = patch_guides(rest, size, 200, 43);
@@ -185,12 +198,12 @@ TEST_CASE("hard places: a target on the normal, opposite the guide, at the root,
     const Eigen::Vector3f n = surface_normal(rest, guides.roots[g]);
     const Eigen::Vector3f tip = carried.points(g).back() - o;
     const Eigen::Vector3f across = tip - tip.dot(n) * n;
-    const Eigen::Vector3f lean =
-        across.norm() > 1e-3f * tip.norm() ? Eigen::Vector3f(across.normalized()) : surface_frame(rest, guides.roots[g]).basis.col(0);
-    const Eigen::Vector3f targets[] = {o + 0.5f * n,                  // straight up the normal
-                                       o - 0.5f * lean + 0.01f * n,   // opposite the guide, at skin level
-                                       o,                             // at the root itself
-                                       o - 0.5f * n};                 // straight into the skin
+    const Eigen::Vector3f lean = across.norm() > 1e-3f * tip.norm() ? Eigen::Vector3f(across.normalized())
+                                                                    : surface_frame(rest, guides.roots[g]).basis.col(0);
+    const Eigen::Vector3f targets[] = {o + 0.5f * n,                 // straight up the normal
+                                       o - 0.5f * lean + 0.01f * n,  // opposite the guide, at skin level
+                                       o,                            // at the root itself
+                                       o - 0.5f * n};                // straight into the skin
     for (int t = 0; t < 4; ++t) {
       ControlDesc c = control_at(targets[t], 0.0f);
       c.place = ControlDesc::Place::space;
@@ -200,7 +213,8 @@ TEST_CASE("hard places: a target on the normal, opposite the guide, at the root,
       const auto p = out.points(g);
       for (const Eigen::Vector3f &q : p) REQUIRE(q.allFinite());
       for (size_t j = 1; j < p.size(); ++j)
-        CHECK((p[j] - p[j - 1]).norm() == Approx((carried.points(g)[j] - carried.points(g)[j - 1]).norm()).epsilon(1e-5));
+        CHECK((p[j] - p[j - 1]).norm() ==
+              Approx((carried.points(g)[j] - carried.points(g)[j - 1]).norm()).epsilon(1e-5));
       const Eigen::Vector3f aimed = p.back() - o;
       INFO("guide " << g << ", target " << t);
       if (t == 0) CHECK(angle_degrees(aimed, n) < 1.0);
@@ -223,8 +237,10 @@ TEST_CASE("hard places: a target on the normal, opposite the guide, at the root,
 // A smoke test over rigs nobody tuned (three controls, random places, reaches, mirrors, keyed offsets
 // and amounts up to every range's end, displacements past the guides' lengths): finite, and no large
 // move in a thousandth of a frame. The sweeps above are the test of continuity frame by frame.
-TEST_CASE("no jump anywhere: random rigs move no guide point by more than 2% of its reach between frames f and "
-          "f + 0.001", "[controls]") {
+TEST_CASE(
+    "no jump anywhere: random rigs move no guide point by more than 2% of its reach between frames f and "
+    "f + 0.001",
+    "[controls]") {
   const float size = 1.0f;
   const Mesh rest = dome_patch(size, 16);
   size_t steps = 0;
@@ -235,20 +251,23 @@ TEST_CASE("no jump anywhere: random rigs move no guide point by more than 2% of 
     std::vector<ControlDesc> list;
     for (int i = 0; i < 3; ++i) {
       const uint64_t b = uint64_t(i) * 64;
-      ControlDesc c = control_at(size * Eigen::Vector3f(2.0f * unit(b) - 1.0f, 0.2f + unit(b + 1), 2.0f * unit(b + 2) - 1.0f),
-                                 unit(b + 3) < 0.3f ? 0.0f : size * (0.4f + 1.2f * unit(b + 3)), ControlDesc::Falloff(i % 3));
+      ControlDesc c =
+          control_at(size * Eigen::Vector3f(2.0f * unit(b) - 1.0f, 0.2f + unit(b + 1), 2.0f * unit(b + 2) - 1.0f),
+                     unit(b + 3) < 0.3f ? 0.0f : size * (0.4f + 1.2f * unit(b + 3)), ControlDesc::Falloff(i % 3));
       c.place = unit(b + 4) < 0.5f ? ControlDesc::Place::skin : ControlDesc::Place::space;
       c.mirror = unit(b + 5) < 0.3f;
       c.offset.interpolation = KeyInterpolation::smooth;
       for (int k = 0; k < 4; ++k) {
         c.offset.frames.push_back(10.0 * k);
-        c.offset.values.push_back(size * Eigen::Vector3f(2.0f * unit(b + 10 + uint64_t(k)) - 1.0f, 2.0f * unit(b + 20 + uint64_t(k)) - 0.8f,
+        c.offset.values.push_back(size * Eigen::Vector3f(2.0f * unit(b + 10 + uint64_t(k)) - 1.0f,
+                                                         2.0f * unit(b + 20 + uint64_t(k)) - 0.8f,
                                                          2.0f * unit(b + 30 + uint64_t(k)) - 1.0f));
       }
       if (unit(b + 6) < 0.6f) {
         c.lift_by = unit(b + 7) < 0.5f ? ControlDesc::LiftBy::angle : ControlDesc::LiftBy::fraction;
         const float hi = c.lift_by == ControlDesc::LiftBy::angle ? 180.0f : 1.0f;
-        c.lift = keys({{0, hi * (2.0f * unit(b + 40) - 1.0f)}, {30, hi * (2.0f * unit(b + 41) - 1.0f)}}, KeyInterpolation::smooth);
+        c.lift = keys({{0, hi * (2.0f * unit(b + 40) - 1.0f)}, {30, hi * (2.0f * unit(b + 41) - 1.0f)}},
+                      KeyInterpolation::smooth);
       }
       if (unit(b + 8) < 0.6f) c.aim = keys({{0, unit(b + 42)}, {30, unit(b + 43)}});
       if (unit(b + 9) < 0.6f) c.direction = keys({{0, 2.0f * unit(b + 44)}, {30, 2.0f * unit(b + 45) - 1.0f}});
@@ -256,7 +275,9 @@ TEST_CASE("no jump anywhere: random rigs move no guide point by more than 2% of 
       c.twist_seed = seed;
       list.push_back(c);
     }
-    const controls::ControlRig rig(rest, guides, settings_of(list, seed % 2 ? ControlSettings::Binding::nearest : ControlSettings::Binding::blend));
+    const controls::ControlRig rig(
+        rest, guides,
+        settings_of(list, seed % 2 ? ControlSettings::Binding::nearest : ControlSettings::Binding::blend));
     const StrandSet carried = carry_guides(rest, rest, guides);
     for (int s = 0; s < 40; ++s) {
       const double f = 30.0 * unit(1000 + uint64_t(s));
@@ -268,7 +289,8 @@ TEST_CASE("no jump anywhere: random rigs move no guide point by more than 2% of 
           const double move = (a.points(g)[j] - b.points(g)[j]).norm() / reach;
           worst = std::max(worst, move);
           if (move > 0.02) {
-            INFO("seed " << seed << ", frame " << f << ", guide " << g << ", point " << j << ": moved " << move << " x reach");
+            INFO("seed " << seed << ", frame " << f << ", guide " << g << ", point " << j << ": moved " << move
+                         << " x reach");
             CHECK(move <= 0.02);
           }
         }

@@ -66,7 +66,8 @@ TEST_CASE("the controls section reads every key", "[controls][io]") {
       place: space
       mirror: z
       aim: 1
-)", "dynamics: {}\n");
+)",
+                                       "dynamics: {}\n");
   const GroomDesc g = io::read_groom_file(path);
   REQUIRE(g.controls.controls.size() == 2);
   CHECK(g.controls.binding == ControlSettings::Binding::nearest);
@@ -107,7 +108,8 @@ TEST_CASE("the controls section reads every key", "[controls][io]") {
   CHECK(maps[0] == std::vector<float>{0.0f, 0.5f, 1.0f, 1.0f});
   CHECK(maps[1].empty());
   CHECK_THROWS_WITH(io::read_control_maps(g.controls, 5),
-                    Catch::Contains("c.groom.yaml:16:12: controls: the vertex map") && Catch::Contains("holds 4 weights, expected 5"));
+                    Catch::Contains("c.groom.yaml:16:12: controls: the vertex map") &&
+                        Catch::Contains("holds 4 weights, expected 5"));
 }
 
 TEST_CASE("bad control files are rejected with file:line:column and the key", "[controls][io]") {
@@ -123,7 +125,8 @@ TEST_CASE("bad control files are rejected with file:line:column and the key", "[
        ":10:32: controls.list[0].lift[2][0]: expected a frame after the previous key's (12), got \"6\""},
       {"controls_blend_without_dynamics.groom.yaml",
        ":10:22: controls.list[0].dynamic_blend: expected a groom with dynamics"},
-      {"controls_lift_out_of_range.groom.yaml", ":10:34: controls.list[0].lift.keys[1][1]: expected a number in [-1, 1], got \"45\""},
+      {"controls_lift_out_of_range.groom.yaml",
+       ":10:34: controls.list[0].lift.keys[1][1]: expected a number in [-1, 1], got \"45\""},
   };
   for (const Bad &bad : files) {
     const std::string message = error_of(kData + "/bad/" + bad.name);
@@ -142,27 +145,43 @@ TEST_CASE("every bad value of a control names its key", "[controls][io]") {
       {"  list:\n    - {position: [0, 0, 0], lfit: 1}\n", "controls.list[0].lfit: unknown key; expected one of:"},
       {"  binding: closest\n", "controls.binding: expected one of nearest, blend, got \"closest\""},
       {"  list:\n    - {position: [0, 0, nan]}\n", "controls.list[0].position[2]: expected a finite number"},
-      {"  list:\n    - {position: [0, 0, 2e6]}\n", "controls.list[0].position[2]: expected a coordinate in [-1e+06, 1e+06]"},
+      {"  list:\n    - {position: [0, 0, 2e6]}\n",
+       "controls.list[0].position[2]: expected a coordinate in [-1e+06, 1e+06]"},
       {"  list:\n    - {position: [0, 0, 0], place: air}\n", "controls.list[0].place: expected one of skin, space"},
-      {"  list:\n    - {position: [0, 0, 0], falloff: linear}\n", "controls.list[0].falloff: not allowed without radius"},
-      {"  list:\n    - {position: [0, 0, 0], radius: -1}\n", "controls.list[0].radius: expected a number in (0, 1e+06]"},
+      {"  list:\n    - {position: [0, 0, 0], falloff: linear}\n",
+       "controls.list[0].falloff: not allowed without radius"},
+      {"  list:\n    - {position: [0, 0, 0], radius: -1}\n",
+       "controls.list[0].radius: expected a number in (0, 1e+06]"},
       {"  list:\n    - {position: [0, 0, 0], mirror: w}\n", "controls.list[0].mirror: expected one of x, y, z"},
-      {"  list:\n    - {position: [0, 0, 0], mirror: {normal: [0, 0, 0]}}\n", "controls.list[0].mirror.normal: expected a non-zero vector"},
-      {"  list:\n    - {position: [0, 0, 0], aim: 1.5}\n", "controls.list[0].aim: expected a number in [0, 1], got \"1.5\""},
+      {"  list:\n    - {position: [0, 0, 0], mirror: {normal: [0, 0, 0]}}\n",
+       "controls.list[0].mirror.normal: expected a non-zero vector"},
+      {"  list:\n    - {position: [0, 0, 0], aim: 1.5}\n",
+       "controls.list[0].aim: expected a number in [0, 1], got \"1.5\""},
       {"  list:\n    - {position: [0, 0, 0], aim: strong}\n", "controls.list[0].aim: expected a number"},
-      {"  list:\n    - {position: [0, 0, 0], aim: {amount: 1, keys: [[1, 1]]}}\n", "controls.list[0].aim: expected a map with either amount"},
+      {"  list:\n    - {position: [0, 0, 0], aim: {amount: 1, keys: [[1, 1]]}}\n",
+       "controls.list[0].aim: expected a map with either amount"},
       {"  list:\n    - {position: [0, 0, 0], aim: {amount: 1, by: angle}}\n", "controls.list[0].aim.by: unknown key"},
-      {"  list:\n    - {position: [0, 0, 0], aim: [[1, 0], [1, 1]]}\n", "controls.list[0].aim[1][0]: expected a frame after the previous key's (1)"},
-      {"  list:\n    - {position: [0, 0, 0], aim: [[1e10, 0]]}\n", "controls.list[0].aim[0][0]: expected a frame in [-1e+09, 1e+09]"},
+      {"  list:\n    - {position: [0, 0, 0], aim: [[1, 0], [1, 1]]}\n",
+       "controls.list[0].aim[1][0]: expected a frame after the previous key's (1)"},
+      {"  list:\n    - {position: [0, 0, 0], aim: [[1e10, 0]]}\n",
+       "controls.list[0].aim[0][0]: expected a frame in [-1e+09, 1e+09]"},
       {"  list:\n    - {position: [0, 0, 0], aim: [1, 0]}\n", "controls.list[0].aim[0]: expected a [frame, value] key"},
-      {"  list:\n    - {position: [0, 0, 0], lift: {by: degrees, amount: 1}}\n", "controls.list[0].lift.by: expected one of fraction, angle"},
-      {"  list:\n    - {position: [0, 0, 0], lift: {by: angle, amount: 200}}\n", "controls.list[0].lift.amount: expected a number in [-180, 180]"},
-      {"  list:\n    - {position: [0, 0, 0], direction: 11}\n", "controls.list[0].direction: expected a number in [-10, 10]"},
-      {"  list:\n    - {position: [0, 0, 0], random_twist: -5}\n", "controls.list[0].random_twist: expected a number in [0, 180]"},
-      {"  list:\n    - {position: [0, 0, 0], random_twist: {amount: 5, seed: -1}}\n", "controls.list[0].random_twist.seed: expected a whole number"},
-      {"  list:\n    - {position: [0, 0, 0], offset: [1, 2]}\n", "controls.list[0].offset: expected a list of 3 numbers"},
-      {"  list:\n    - {position: [0, 0, 0], offset: {keys: [[1, [0, 0, inf]]]}}\n", "controls.list[0].offset.keys[0][1][2]: expected a finite number"},
-      {"  list:\n    - {position: [0, 0, 0], map: nowhere.txt}\n", "controls.list[0].map: expected an existing file, got \"nowhere.txt\""},
+      {"  list:\n    - {position: [0, 0, 0], lift: {by: degrees, amount: 1}}\n",
+       "controls.list[0].lift.by: expected one of fraction, angle"},
+      {"  list:\n    - {position: [0, 0, 0], lift: {by: angle, amount: 200}}\n",
+       "controls.list[0].lift.amount: expected a number in [-180, 180]"},
+      {"  list:\n    - {position: [0, 0, 0], direction: 11}\n",
+       "controls.list[0].direction: expected a number in [-10, 10]"},
+      {"  list:\n    - {position: [0, 0, 0], random_twist: -5}\n",
+       "controls.list[0].random_twist: expected a number in [0, 180]"},
+      {"  list:\n    - {position: [0, 0, 0], random_twist: {amount: 5, seed: -1}}\n",
+       "controls.list[0].random_twist.seed: expected a whole number"},
+      {"  list:\n    - {position: [0, 0, 0], offset: [1, 2]}\n",
+       "controls.list[0].offset: expected a list of 3 numbers"},
+      {"  list:\n    - {position: [0, 0, 0], offset: {keys: [[1, [0, 0, inf]]]}}\n",
+       "controls.list[0].offset.keys[0][1][2]: expected a finite number"},
+      {"  list:\n    - {position: [0, 0, 0], map: nowhere.txt}\n",
+       "controls.list[0].map: expected an existing file, got \"nowhere.txt\""},
       {"  list:\n    - {name: a, position: [0, 0, 0]}\n    - {name: a, position: [1, 0, 0]}\n",
        "controls.list[1].name: expected a name no other control"},
       {"  list:\n    - {name: a, position: [0, 0, 0], mirror: x}\n    - {name: a.mirror, position: [1, 0, 0]}\n",
@@ -187,9 +206,12 @@ TEST_CASE("a vertex map of controls is checked value by value", "[controls][io]"
   ControlDesc c;
   c.vertex_map_path = dir.file("m.txt");
   settings.controls.push_back(c);
-  CHECK_THROWS_WITH(io::read_control_maps(settings, 4), Catch::Contains("m.txt:3:1: expected a weight in [0, 1], got \"1.5\""));
+  CHECK_THROWS_WITH(io::read_control_maps(settings, 4),
+                    Catch::Contains("m.txt:3:1: expected a weight in [0, 1], got \"1.5\""));
   std::ofstream(dir.file("m.txt")) << "0.2\nx\n";
-  CHECK_THROWS_WITH(io::read_control_maps(settings, 4), Catch::Contains("m.txt:2:1: expected one number per line, got \"x\""));
+  CHECK_THROWS_WITH(io::read_control_maps(settings, 4),
+                    Catch::Contains("m.txt:2:1: expected one number per line, got \"x\""));
   std::ofstream(dir.file("m.txt")) << "0.2\n0.3\n0.3\n";
-  CHECK_THROWS_WITH(io::read_control_maps(settings, 2), Catch::Contains("m.txt:3:1: expected 2 weights (one per emitter vertex), got more"));
+  CHECK_THROWS_WITH(io::read_control_maps(settings, 2),
+                    Catch::Contains("m.txt:3:1: expected 2 weights (one per emitter vertex), got more"));
 }

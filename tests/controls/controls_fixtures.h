@@ -23,7 +23,8 @@ inline Mesh dome_patch(float size, int cells = 24, float dome = 0.25f) {
   Mesh mesh;
   for (int j = 0; j <= cells; ++j)
     for (int i = 0; i <= cells; ++i) {
-      const float x = size * (2.0f * float(i) / float(cells) - 1.0f), z = size * (2.0f * float(j) / float(cells) - 1.0f);
+      const float x = size * (2.0f * float(i) / float(cells) - 1.0f),
+                  z = size * (2.0f * float(j) / float(cells) - 1.0f);
       const float r2 = (x * x + z * z) / (size * size);
       mesh.positions.emplace_back(x, dome * size * std::exp(-r2), z);
     }
@@ -82,8 +83,8 @@ inline Guides patch_guides(const Mesh &mesh, float size, int count, uint64_t see
     for (int j = 1; j < n; ++j) {
       const float t = float(j - 1) / float(n - 1);
       float elevation = lean;
-      if (kind == 0) elevation = lean * (1.0f - 0.8f * t);          // combed: flattens toward the tip
-      if (kind == 2) elevation = lean + (kPi - 2.0f * lean) * t;    // arched over
+      if (kind == 0) elevation = lean * (1.0f - 0.8f * t);        // combed: flattens toward the tip
+      if (kind == 2) elevation = lean + (kPi - 2.0f * lean) * t;  // arched over
       const Eigen::Vector3f d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
                               std::sin(elevation));
       p += (length / float(n - 1)) * d;

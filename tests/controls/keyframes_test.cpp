@@ -17,7 +17,8 @@ TEST_CASE("keyed values hold before the first key and after the last, and pass t
     CHECK(controls::value_at(k, 1.0) == 0.2f);
     CHECK(controls::value_at(k, 20.0) == 0.75f);
     CHECK(controls::value_at(k, 1e6) == 0.75f);
-    for (size_t i = 0; i < k.frames.size(); ++i) CHECK(controls::value_at(k, k.frames[i]) == Approx(k.values[i]).margin(1e-6));
+    for (size_t i = 0; i < k.frames.size(); ++i)
+      CHECK(controls::value_at(k, k.frames[i]) == Approx(k.values[i]).margin(1e-6));
   }
   const Keyed<float> one = Keyed<float>::constant(0.3f);
   CHECK(controls::value_at(one, -5.0) == 0.3f);
@@ -31,8 +32,10 @@ TEST_CASE("linear keys are straight lines between keys, and keys of 0 give exact
   for (double f = -2.0; f < 12.0; f += 0.25) CHECK(controls::value_at(zero, f) == 0.0f);
 }
 
-TEST_CASE("smooth keys never leave the values of the two keys around them, are monotone on monotone keys, and have no "
-          "kink at a key", "[controls]") {
+TEST_CASE(
+    "smooth keys never leave the values of the two keys around them, are monotone on monotone keys, and have no "
+    "kink at a key",
+    "[controls]") {
   for (uint64_t seed = 0; seed < 200; ++seed) {
     Keyed<float> k;
     k.interpolation = KeyInterpolation::smooth;

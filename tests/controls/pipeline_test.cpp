@@ -41,8 +41,10 @@ bool same_frame(const FrameResult &a, const FrameResult &b) {
 
 }  // namespace
 
-TEST_CASE("the shipped control grooms keep every strand out of the skin and every guide its length on the frames "
-          "they render", "[controls]") {
+TEST_CASE(
+    "the shipped control grooms keep every strand out of the skin and every guide its length on the frames "
+    "they render",
+    "[controls]") {
   struct Shipped {
     std::string path;
     std::vector<int> frames;  // increasing: a simulation steps through them
@@ -78,7 +80,8 @@ TEST_CASE("the shipped control grooms keep every strand out of the skin and ever
 TEST_CASE("a frame produced alone equals the same frame of a sequence, and 1 and 2 threads give the same bytes",
           "[controls]") {
   // The cat simulates (the frame alone is simulated from the start again); the crest is rigid.
-  for (const auto &[name, frame] : {std::pair<std::string, int>{"cat/cat.groom.yaml", 9}, {"crest/crest.groom.yaml", 13}}) {
+  for (const auto &[name, frame] :
+       {std::pair<std::string, int>{"cat/cat.groom.yaml", 9}, {"crest/crest.groom.yaml", 13}}) {
     const GroomDesc groom = io::read_groom_file(groom_path(name));
     PipelineOptions options;
     options.strand_count = 2000;
@@ -98,8 +101,10 @@ TEST_CASE("a frame produced alone equals the same frame of a sequence, and 1 and
   }
 }
 
-TEST_CASE("dynamic blend: 0 gives the rig-driven guides, and controls at amount 0 with a full blend give the "
-          "simulation without controls, to the bit", "[controls]") {
+TEST_CASE(
+    "dynamic blend: 0 gives the rig-driven guides, and controls at amount 0 with a full blend give the "
+    "simulation without controls, to the bit",
+    "[controls]") {
   const GroomDesc cat = io::read_groom_file(groom_path("cat/cat.groom.yaml"));
   PipelineOptions options;
   options.strand_count = 0;

@@ -49,6 +49,7 @@ ControlRig::ControlRig(const Mesh &rest_mesh, const Guides &guides, const Contro
   roots_ = guides.roots;
   lift_axis_.resize(guide_num);
   elevation_.resize(guide_num);
+  root_.resize(guide_num);
   tip_.resize(guide_num);
   arc_parameter_.assign(strands.point_count(), 0.0f);
   const Eigen::Vector3f z = Eigen::Vector3f::UnitZ();
@@ -64,7 +65,8 @@ ControlRig::ControlRig(const Mesh &rest_mesh, const Guides &guides, const Contro
         break;
       }
     }
-    tip_[g] = frame.to_local(points.back());
+    root_[g] = frame.to_local(points[0]);
+    tip_[g] = frame.dir_to_local(points.back() - points[0]);
     elevation_[g] = std::asin(std::clamp(first.z(), -1.0f, 1.0f));
     // d x z = (d.y, -d.x, 0): turning d about it moves d toward the normal. A guide straight up the
     // normal turns toward its tip's azimuth, or the frame's tangent.
@@ -176,7 +178,7 @@ void ControlRig::pose(double frame, const Mesh &posed_mesh, GuidePose &r_pose) c
         const size_t c = size_t(binding_.controls[size_t(e)]);
         const ControlState &state = r_pose.controls[c];
         if (state.aim == 0.0f) continue;
-        const Eigen::Vector3f to_control = frame.to_local(state.position);
+        const Eigen::Vector3f to_control = frame.to_local(state.position) - root_[g];
         const float distance = to_control.norm();
         const float a = binding_.weights[size_t(e)] * state.aim * std::min(1.0f, distance / (kNearRootFade * reach));
         if (!(a > 0.0f)) continue;
@@ -209,7 +211,9 @@ void ControlRig::apply(const GuidePose &pose, StrandSet &r_guides) const {
     if (!pose.turned[g]) continue;
     const SurfaceFrame &frame = pose.frames[g];
     const Eigen::Matrix3f turn = frame.basis * pose.turns[g].toRotationMatrix() * frame.basis.transpose();
-    for (Eigen::Vector3f &p : r_guides.points_for_write(g)) p = frame.origin + turn * (p - frame.origin);
+    const std::span<Eigen::Vector3f> points = r_guides.points_for_write(g);
+    const Eigen::Vector3f root = points[0];
+    for (Eigen::Vector3f &p : points.subspan(1)) p = root + turn * (p - root);
   }
 }
 

@@ -35,8 +35,9 @@ struct GuidePose {
   std::vector<ControlState> controls;
   /// One per guide: its posed skin frame at the root.
   std::vector<SurfaceFrame> frames;
-  /// One per guide: the unit turn about the root's surface point, in that frame's coordinates
-  /// (a point p of the guide goes to o + B q B^T (p - o), o and B the frame's origin and basis).
+  /// One per guide: the unit turn about the guide's first point (its root), in the skin frame's
+  /// coordinates (a point p of the guide goes to p0 + B q B^T (p - p0), p0 the guide's first point
+  /// and B the frame's basis: the root itself never moves).
   std::vector<Eigen::Quaternionf> turns;
   /// One per guide: 0 when the turn is the identity (the guide is left as it is, to the bit).
   std::vector<uint8_t> turned;
@@ -60,7 +61,7 @@ class ControlRig {
 
   /// The controls at `frame` on `posed_mesh` (the rest mesh's topology, normals computed), and the
   /// turn of every guide. In the root's skin frame (z the normal), with the rest guide's first
-  /// segment d, its tip c (from the root's surface point) and the weights w of its controls:
+  /// segment d, its tip c (from its first point) and the weights w of its controls:
   ///   lift       L: about the fixed axis d x z by  sum w lift  (a fraction f of d's angle to the
   ///                 normal, of its elevation when f < 0, or an angle), kept between lying on the
   ///                 skin and lying on the skin the other way;
@@ -70,8 +71,8 @@ class ControlRig {
   /// q = A D T L. Every turn between two directions goes through the normal (swing.h) and targets
   /// are kept above the tangent plane, so q is continuous in the frame: nothing flips.
   void pose(double frame, const Mesh &posed_mesh, GuidePose &r_pose) const;
-  /// Turns `r_guides` (the rest guides carried onto the pose's mesh: same offsets) by the pose.
-  /// Guides whose turn is the identity are not touched.
+  /// Turns `r_guides` (the rest guides carried onto the pose's mesh: same offsets) by the pose,
+  /// each about its own first point. Guides whose turn is the identity are not touched.
   void apply(const GuidePose &pose, StrandSet &r_guides) const;
   /// pose() then apply().
   void apply(double frame, const Mesh &posed_mesh, StrandSet &r_guides) const;
@@ -94,7 +95,8 @@ class ControlRig {
   std::vector<Eigen::Vector3f> lift_axis_;  // unit, in the tangent plane
   std::vector<float> elevation_;            // of the first segment above the tangent plane, radians
                                             // (pi/2 for a guide of no length)
-  std::vector<Eigen::Vector3f> tip_;        // the tip from the root's surface point
+  std::vector<Eigen::Vector3f> root_;       // the first point, from the root's surface point
+  std::vector<Eigen::Vector3f> tip_;        // the tip, from the first point
   // Per point: the arc-length parameter on the rest guide, 0 at the root, 1 at the tip.
   std::vector<float> arc_parameter_;
 };

@@ -176,14 +176,18 @@ const MeshQuery *GuideSimulator::State::emitter_query() {
 
 namespace {
 
-// The root frame of guide g on `posed_mesh`, turned by its entry of `root_turns` (if any).
+// The root frame of guide g on `posed_mesh`, turned by its entry of `root_turns` (if any) about
+// the guide's first point `first_local` (in the frame): with R' = R q and o' = o + R (c - q c), the
+// first point o' + R' c = o + R c stays where the skin carries it.
 FramePose root_frame(const Mesh &posed_mesh, const SurfacePoint &root, std::span<const Eigen::Quaternionf> root_turns,
-                     size_t g) {
+                     size_t g, const Vector3d &first_local) {
   FramePose pose = FramePose::from(surface_frame(posed_mesh, root));
   if (root_turns.empty()) return pose;
   const Eigen::Quaternionf &turn = root_turns[g];
   if (turn.w() == 1.0f && turn.vec() == Eigen::Vector3f::Zero()) return pose;
-  pose.rotation = (pose.rotation * turn.cast<double>()).normalized();
+  const Eigen::Quaterniond q = turn.cast<double>();
+  pose.origin += pose.rotation * (first_local - q * first_local);
+  pose.rotation = (pose.rotation * q).normalized();
   return pose;
 }
 
@@ -193,7 +197,7 @@ FramePose root_frame(const Mesh &posed_mesh, const SurfacePoint &root, std::span
 void GuideSimulator::State::pose_roots(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns) {
 #pragma omp parallel for schedule(static) if (guide_count() >= kParallelGuides)
   for (int64_t g = 0; g < int64_t(guide_count()); ++g)
-    root_to[size_t(g)] = root_frame(posed_mesh, roots[size_t(g)], root_turns, size_t(g));
+    root_to[size_t(g)] = root_frame(posed_mesh, roots[size_t(g)], root_turns, size_t(g), rest_local[size_t(offsets[size_t(g)])]);
 }
 
 // The float view of the joint positions.
@@ -692,7 +696,9 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh, std::span<const Eigen::Q
     for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) {
       // The per-frame work of a guide rides in the substeps' parallel loop (one parallel region
       // per substep): its root frame on the new pose first, its float view last.
-      if (s == 0) st.root_to[size_t(g)] = root_frame(st.mesh_to, st.roots[size_t(g)], root_turns, size_t(g));
+      if (s == 0)
+        st.root_to[size_t(g)] =
+            root_frame(st.mesh_to, st.roots[size_t(g)], root_turns, size_t(g), st.rest_local[size_t(st.offsets[size_t(g)])]);
       st.substep_guide(size_t(g), s0, s1, h, time_end);
       if (s + 1 == substeps)
         for (int64_t p = st.offsets[size_t(g)]; p < st.offsets[size_t(g) + 1]; ++p)

@@ -40,9 +40,9 @@ class GuideSimulator {
 
   /// Sets the state to the guides carried rigidly onto `posed_mesh` at rest (zero velocity).
   /// `posed_mesh` has the rest mesh's topology, normals computed. `root_turns`: empty, or one unit
-  /// quaternion per guide that turns its root frame (about the root's surface point, in the skin
+  /// quaternion per guide that turns its root frame about the guide's first point (in the skin
   /// frame's coordinates: an animator control's pose); the guide is then simulated as if groomed
-  /// turned by it. An identity turn leaves a guide as without one, to the bit.
+  /// turned by it, its root where it was. An identity turn leaves a guide as without one, to the bit.
   void reset(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns = {});
   /// Advances one frame (settings.substeps substeps, dt = 1 / fps / substeps each), roots
   /// following the skin, root frames (turned by `root_turns`, as for reset()) interpolated between

@@ -174,3 +174,31 @@ TEST_CASE("a mirrored twin is reflected across any plane, offsets too", "[contro
   CHECK(std::abs((reflected + v).dot(n)) < 1e-5f);
   CHECK((reflected - v).cross(n).norm() < 1e-5f);
 }
+
+TEST_CASE("the binding is stable: a guide's controls and weights do not depend on the other guides", "[controls]") {
+  const float size = 1.0f;
+  const Mesh mesh = dome_patch(size);
+  const Guides all = patch_guides(mesh, size, 300, 13);
+  std::vector<ControlDesc> list = {control_at({-0.4f, 0.2f, 0.1f}, 0.8f), control_at({0.4f, 0.2f, -0.2f}, 0.9f)};
+  list[1].mirror = true;
+  for (const auto mode : {ControlSettings::Binding::nearest, ControlSettings::Binding::blend}) {
+    const ControlSettings settings = settings_of(list, mode);
+    const auto controls = placed(settings, mesh);
+    const controls::ControlBinding whole = controls::bind_controls(settings, controls, mesh, all);
+    // Every third guide alone.
+    Guides some;
+    for (size_t g = 0; g < all.size(); g += 3) {
+      some.strands.append(all.strands.points(g), all.strands.ids[g]);
+      some.roots.push_back(all.roots[g]);
+    }
+    const controls::ControlBinding part = controls::bind_controls(settings, controls, mesh, some);
+    for (size_t i = 0; i < some.size(); ++i) {
+      const size_t g = 3 * i;
+      REQUIRE(part.offsets[i + 1] - part.offsets[i] == whole.offsets[g + 1] - whole.offsets[g]);
+      for (int64_t k = 0; k < part.offsets[i + 1] - part.offsets[i]; ++k) {
+        CHECK(part.controls[size_t(part.offsets[i] + k)] == whole.controls[size_t(whole.offsets[g] + k)]);
+        CHECK(part.weights[size_t(part.offsets[i] + k)] == whole.weights[size_t(whole.offsets[g] + k)]);
+      }
+    }
+  }
+}

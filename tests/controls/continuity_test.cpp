@@ -202,7 +202,7 @@ TEST_CASE(
                                                                     : surface_frame(rest, guides.roots[g]).basis.col(0);
     const Eigen::Vector3f targets[] = {o + 0.5f * n,                 // straight up the normal
                                        o - 0.5f * lean + 0.01f * n,  // opposite the guide, at skin level
-                                       o,                            // at the root itself
+                                       guides.strands.points(g)[0],  // at the root itself
                                        o - 0.5f * n};                // straight into the skin
     for (int t = 0; t < 4; ++t) {
       ControlDesc c = control_at(targets[t], 0.0f);

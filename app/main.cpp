@@ -50,6 +50,7 @@ int main(int argc, char **argv) {
   plume::add_preview_command(app, exit_code);
   plume::add_info_command(app, exit_code);
   plume::add_check_command(app, exit_code);
+  plume::add_view_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {

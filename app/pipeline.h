@@ -74,6 +74,11 @@ class Pipeline {
   bool dynamic() const { return groom_.dynamics.enabled; }
   /// One UV per root (root's UV on the emitter), empty when the emitter has no UVs.
   const std::vector<Eigen::Vector2f> &root_uvs() const { return root_uvs_; }
+  /// What the rest pose decided, for pictures that show it: the roots' binding to the guides, the
+  /// partings and the effects stack.
+  const interp::Binding &binding() const { return *binding_; }
+  const partings::PartingField &partings() const { return *partings_; }
+  const effects::EffectStack &effects() const { return *effects_; }
 
   /// The emitter at `frame`: an OBJ of the sequence, the rest mesh rigidly moved, or the rest mesh.
   Mesh posed_mesh(int frame) const;

@@ -1,0 +1,79 @@
+// The viewer on real grooms: `plume view` of Sintel as the demo writes it, one frame of her 30,000
+// strands, and 100,000 strands x 32 points; for each, the time to write the page, its size, and
+// the time headless Chromium (software WebGL) takes from navigation to the first frame drawn
+// (median of several loads), then to show another frame.
+//
+// node bench/bench_viewer.mjs --plume build/app/plume [--chromium /usr/bin/chromium] [--loads 5]
+import { execFileSync } from 'node:child_process';
+import { mkdtempSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
+import { cpus, tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+import { Browser } from '../tests/viewer/browser.mjs';
+
+const args = { chromium: '/usr/bin/chromium', loads: '5' };
+for (let i = 2; i + 1 < process.argv.length; i += 2) args[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
+if (!args.plume) throw new Error('usage: node bench/bench_viewer.mjs --plume build/app/plume [--chromium PATH] [--loads N]');
+const root = resolve(dirname(fileURLToPath(import.meta.url)), '..');
+const sintel = join(root, 'grooms/sintel/sintel.groom.yaml');
+const work = mkdtempSync(join(tmpdir(), 'plume-bench-viewer-'));
+
+// Sintel with 32 points per strand: the groom file's own settings but for `strands.points`.
+const dense = join(work, 'sintel32.groom.yaml');
+writeFileSync(dense, readFileSync(sintel, 'utf8')
+  .replace('mesh: sintel.obj', `mesh: ${join(root, 'grooms/sintel/sintel.obj')}`)
+  .replace('file: sintel_guides.hair', `file: ${join(root, 'grooms/sintel/sintel_guides.hair')}`)
+  .replace(/points: 12/, 'points: 32'));
+
+const median = (values) => [...values].sort((a, b) => a - b)[Math.floor(values.length / 2)];
+const cases = [
+  { name: 'Sintel demo: frames 1-48:4, 30,000 strands x 12', argv: [sintel, '--frames', '1-48:4'] },
+  { name: 'Sintel demo, every frame: 1-48', argv: [sintel, '--frames', '1-48'] },
+  { name: 'Sintel, one frame, 30,000 x 12', argv: [sintel, '--frames', '1'] },
+  { name: 'Sintel, one frame, 100,000 x 32', argv: [dense, '--frames', '1', '--strands', '100000'] },
+];
+
+const browser = await Browser.launch(args.chromium, { width: 1280, height: 800 });
+await browser.page('Page.enable');
+const rows = [];
+try {
+  for (const c of cases) {
+    const page = join(work, 'view.html');
+    let started = process.hrtime.bigint();
+    execFileSync(args.plume, ['view', ...c.argv, '--out', page], { stdio: ['ignore', 'ignore', 'inherit'] });
+    const writeSeconds = Number(process.hrtime.bigint() - started) / 1e9;
+    const loads = [];
+    let frameMs = NaN, shown = 0, total = 0, frames = 0;
+    for (let k = 0; k < Number(args.loads); ++k) {
+      const url = pathToFileURL(page).href + `?load=${k}`;
+      await browser.page('Page.navigate', { url });
+      await browser.waitFor(`location.href === ${JSON.stringify(url)} && document.documentElement?.dataset.plumeState === 'ready'`, 300);
+      loads.push(await browser.evaluate('plumeViewer.loadMilliseconds'));
+      if (k === 0) {
+        ({ shown, total } = await browser.evaluate('({ shown: plumeViewer.strandsShown, total: plumeViewer.strandsTotal })'));
+        frames = await browser.evaluate('plumeViewer.frames.length');
+        if (frames > 1) {
+          frameMs = await browser.evaluate(`new Promise((resolve) => {
+            const t0 = performance.now();
+            plumeViewer.setFrame(plumeViewer.frames.length - 1);
+            requestAnimationFrame(() => requestAnimationFrame(() => resolve(performance.now() - t0)));
+          })`);
+        }
+      }
+    }
+    rows.push({ name: c.name, frames, shown, total, mb: statSync(page).size / 1e6, writeSeconds, loadMs: median(loads),
+      loadsMs: loads.map(Math.round).join(' '), frameMs });
+    rmSync(page);
+  }
+} finally {
+  await browser.close();
+  rmSync(work, { recursive: true, force: true });
+}
+
+console.log(`bench_viewer: ${cpus().length} cores, headless Chromium with SwiftShader (software WebGL), ${args.loads} loads each`);
+console.log('| page | frames | strands shown | size | plume view | load to first frame (median) | loads | next frame shown |');
+console.log('|---|---|---|---|---|---|---|---|');
+for (const r of rows)
+  console.log(`| ${r.name} | ${r.frames} | ${r.shown.toLocaleString('en-US')} of ${r.total.toLocaleString('en-US')} | ` +
+    `${r.mb.toFixed(1)} MB | ${r.writeSeconds.toFixed(1)} s | ${(r.loadMs / 1000).toFixed(2)} s | ${r.loadsMs} ms | ` +
+    `${Number.isNaN(r.frameMs) ? '-' : Math.round(r.frameMs) + ' ms'} |`);

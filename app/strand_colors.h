@@ -32,8 +32,8 @@ ColorMode parse_color_mode(const std::string &text, const std::string &what);
 struct StrandAttributes {
   /// The guide that weighs most in the strand's binding (-1: none).
   std::vector<int32_t> guide;
-  /// The clump of the groom's first clump effect: the index of the clump's centre strand (-1: a
-  /// stray, in no clump). Empty when the groom has no clump effect.
+  /// The clump of the groom's first clump effect: the index of the clump's centre strand (-1: in
+  /// no clump). A stray keeps the clump it was left out of. Empty when the groom has no clump effect.
   std::vector<int32_t> clump;
   /// The hard zone, in [0, zone_count).
   std::vector<int32_t> zone;

@@ -10,7 +10,7 @@
 // node view_test.mjs --plume BIN --groom GROOM --chromium BIN --work DIR [--screenshot OUT.png]
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
-import { join, resolve } from 'node:path';
+import { dirname, join, resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
 import { Browser } from './browser.mjs';
 
@@ -80,6 +80,107 @@ for (const frame of FRAMES) {
 }
 check(!/(?:src|href)\s*=\s*["']?(?:https?:)?\/\//i.test(html), 'the page references no network resource');
 check(/three\.js authors/i.test(html) && /Permission is hereby granted/.test(html), "the page keeps three.js's licence");
+
+// The checker's counts on the page are plume check's on the same strands (frame 1: the rest pose,
+// where the emitter OBJ is the skin).
+const sintelMesh = join(dirname(resolve(args.groom)), 'sintel.obj');
+const checked = plume('check', join(work, 'hair.0001.hair'), '--mesh', sintelMesh, '--tolerance', '0.01');
+const inside = Number(checked.match(/points inside the skin \(margin 0\): (\d+)/)[1]);
+const pairs = Number(checked.match(/crossing strand pairs \(tolerance 0.01\): (\d+)/)[1]);
+const frame1 = manifest.check.frames[0];
+check(frame1.points_inside === inside && frame1.crossing_pairs === pairs && pairs > 0,
+  `the page's frame 1 check is plume check's: ${frame1.points_inside} points inside (${inside}), ${frame1.crossing_pairs} crossing pairs (${pairs})`);
+const flags = arrays[frame1.flags];
+check(flags.filter((f) => f & 2).length === frame1.strands_flagged && frame1.pairs_flagged === pairs,
+  `every strand of the ${pairs} crossing pairs is flagged (${frame1.strands_flagged} strands)`);
+
+/// Colour of strand s in colour mode `mode`, as "r,g,b".
+const colorOf = (page, mode, s) => {
+  const c = page.arrays[page.manifest.colors.find((entry) => entry.mode === mode).colors];
+  return `${c[3 * s]},${c[3 * s + 1]},${c[3 * s + 2]}`;
+};
+const rootOf = (page, s) => {
+  const p = page.arrays[page.manifest.strands.positions[0]], o = page.arrays[page.manifest.strands.offsets];
+  return [p[3 * o[s]], p[3 * o[s] + 1], p[3 * o[s] + 2]];
+};
+const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+
+// By guide: without partings the guide that weighs most is the one whose root is nearest the
+// strand's root on the rest pose (frame 1), so strands sharing a nearest guide share a colour.
+{
+  const page = { manifest, arrays };
+  const guideOffsets = arrays[manifest.guides.offsets], guidePositions = arrays[manifest.guides.positions[0]];
+  const guideRoots = [];
+  for (let g = 0; g + 1 < guideOffsets.length; ++g)
+    guideRoots.push([0, 1, 2].map((k) => guidePositions[3 * guideOffsets[g] + k]));
+  const groups = new Map();
+  for (let s = 0; s < manifest.strands.shown; ++s) {
+    const root = rootOf(page, s);
+    let nearest = 0;
+    for (let g = 1; g < guideRoots.length; ++g) if (distance(root, guideRoots[g]) < distance(root, guideRoots[nearest])) nearest = g;
+    if (!groups.has(nearest)) groups.set(nearest, []);
+    groups.get(nearest).push(colorOf(page, 'guide', s));
+  }
+  let agreeing = 0;
+  const colours = new Set();
+  for (const members of groups.values()) {
+    const counts = new Map();
+    for (const c of members) counts.set(c, (counts.get(c) ?? 0) + 1);
+    const [majority, n] = [...counts.entries()].sort((a, b) => b[1] - a[1])[0];
+    agreeing += n;
+    colours.add(majority);
+  }
+  // (Binding measures from the guides' roots snapped to the skin, this test from their first points
+  // as the file gives them: near-ties may go either way.)
+  check(agreeing >= 0.95 * manifest.strands.shown && colours.size >= 0.9 * groups.size,
+    `by guide: ${agreeing} of ${manifest.strands.shown} strands take their nearest guide's colour; ${colours.size} colours for ${groups.size} guides`);
+}
+
+// By clump (grooms/effects: Poisson clumps of radius 1.2; a stray keeps its clump's colour):
+// strands of one colour lie together, within a clump's reach of their centroid.
+{
+  const groom = join(dirname(resolve(args.groom)), '../effects/effects.groom.yaml');
+  const path = join(work, 'effects.html');
+  plume('view', groom, '--frames', '1', '--strands', '3000', '--out', path);
+  const page = readPage(path);
+  const groups = new Map();
+  for (let s = 0; s < page.manifest.strands.shown; ++s) {
+    const c = colorOf(page, 'clump', s);
+    if (!groups.has(c)) groups.set(c, []);
+    groups.get(c).push(rootOf(page, s));
+  }
+  let near = 0, members = 0;
+  const stray = '90,90,90';
+  for (const [c, roots] of groups) {
+    if (c === stray) continue;
+    const centroid = [0, 1, 2].map((k) => roots.reduce((sum, r) => sum + r[k], 0) / roots.length);
+    members += roots.length;
+    near += roots.filter((r) => distance(r, centroid) <= 2 * 1.2).length;
+  }
+  check(groups.size > 50 && members > 0.99 * page.manifest.strands.shown && near >= 0.95 * members,
+    `by clump: ${groups.size} clump colours; ${near} of ${members} strands within two clump radii of their colour's centre`);
+}
+
+// By zone and parting side (grooms/sintel_parting: a side parting running front to back near
+// x = 3 on top of the head): the two sides take a lighter and a darker shade, one on each side.
+{
+  const groom = join(dirname(resolve(args.groom)), '../sintel_parting/sintel_parting.groom.yaml');
+  const path = join(work, 'parting.html');
+  plume('view', groom, '--frames', '1', '--strands', '3000', '--out', path);
+  const page = readPage(path);
+  const byColor = new Map();
+  for (let s = 0; s < page.manifest.strands.shown; ++s) {
+    const c = colorOf(page, 'zone', s);
+    if (!byColor.has(c)) byColor.set(c, []);
+    byColor.get(c).push(rootOf(page, s)[0]);
+  }
+  const brightness = (c) => c.split(',').map(Number).reduce((a, b) => a + b, 0);
+  const shades = [...byColor.keys()].sort((a, b) => brightness(a) - brightness(b));
+  const meanX = (c) => byColor.get(c).reduce((a, b) => a + b, 0) / byColor.get(c).length;
+  const darker = shades[0], lighter = shades[shades.length - 1];
+  check(shades.length === 3 && (meanX(darker) - 3) * (meanX(lighter) - 3) < 0,
+    `by parting side: ${shades.length} shades; mean x of the darker side ${meanX(darker).toFixed(2)}, of the lighter ${meanX(lighter).toFixed(2)} (the parting near x = 3)`);
+}
 
 // ---- A sampled page: a budget below the strands. The skin and guides move (a rigid turn and
 // dynamics): they take their points on every frame, and the strands share what is left.

@@ -1,9 +1,11 @@
 // The viewer on real grooms: `plume view` of Sintel as the demo writes it, one frame of her 30,000
 // strands, and 100,000 strands x 32 points; for each, the time to write the page, its size, and
-// the time headless Chromium (software WebGL) takes from navigation to the first frame drawn
-// (median of several loads), then to show another frame.
+// the time headless Chromium (software WebGL) takes from navigation to the scene read (parsed,
+// decoded, geometry built) and to the first frame drawn (medians of several loads), then to show
+// another frame.
 //
 // node bench/bench_viewer.mjs --plume build/app/plume [--chromium /usr/bin/chromium] [--loads 5]
+//   [--screenshot docs/viewer.png]   the demo's page as first drawn (the README's picture)
 import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { cpus, tmpdir } from 'node:os';
@@ -42,13 +44,18 @@ try {
     let started = process.hrtime.bigint();
     execFileSync(args.plume, ['view', ...c.argv, '--out', page], { stdio: ['ignore', 'ignore', 'inherit'] });
     const writeSeconds = Number(process.hrtime.bigint() - started) / 1e9;
-    const loads = [];
+    const loads = [], reads = [];
     let frameMs = NaN, shown = 0, total = 0, frames = 0;
     for (let k = 0; k < Number(args.loads); ++k) {
       const url = pathToFileURL(page).href + `?load=${k}`;
       await browser.page('Page.navigate', { url });
       await browser.waitFor(`location.href === ${JSON.stringify(url)} && document.documentElement?.dataset.plumeState === 'ready'`, 300);
       loads.push(await browser.evaluate('plumeViewer.loadMilliseconds'));
+      reads.push(await browser.evaluate('plumeViewer.dataMilliseconds'));
+      if (k === 0 && c === cases[0] && args.screenshot) {
+        await browser.evaluate('new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)))');
+        writeFileSync(args.screenshot, (await browser.screenshot()).png);
+      }
       if (k === 0) {
         ({ shown, total } = await browser.evaluate('({ shown: plumeViewer.strandsShown, total: plumeViewer.strandsTotal })'));
         frames = await browser.evaluate('plumeViewer.frames.length');
@@ -62,6 +69,7 @@ try {
       }
     }
     rows.push({ name: c.name, frames, shown, total, mb: statSync(page).size / 1e6, writeSeconds, loadMs: median(loads),
+      readMs: median(reads),
       loadsMs: loads.map(Math.round).join(' '), frameMs });
     rmSync(page);
   }
@@ -71,9 +79,9 @@ try {
 }
 
 console.log(`bench_viewer: ${cpus().length} cores, headless Chromium with SwiftShader (software WebGL), ${args.loads} loads each`);
-console.log('| page | frames | strands shown | size | plume view | load to first frame (median) | loads | next frame shown |');
-console.log('|---|---|---|---|---|---|---|---|');
+console.log('| page | frames | strands shown | size | plume view | scene read (median) | first frame drawn (median) | loads to first frame | next frame shown |');
+console.log('|---|---|---|---|---|---|---|---|---|');
 for (const r of rows)
   console.log(`| ${r.name} | ${r.frames} | ${r.shown.toLocaleString('en-US')} of ${r.total.toLocaleString('en-US')} | ` +
-    `${r.mb.toFixed(1)} MB | ${r.writeSeconds.toFixed(1)} s | ${(r.loadMs / 1000).toFixed(2)} s | ${r.loadsMs} ms | ` +
+    `${r.mb.toFixed(1)} MB | ${r.writeSeconds.toFixed(1)} s | ${(r.readMs / 1000).toFixed(2)} s | ${(r.loadMs / 1000).toFixed(2)} s | ${r.loadsMs} ms | ` +
     `${Number.isNaN(r.frameMs) ? '-' : Math.round(r.frameMs) + ' ms'} |`);

@@ -249,6 +249,36 @@ TEST_CASE("preview and view refuse bad camera, colour and page options with exit
   fs::remove(out / "dir.html");
 }
 
+TEST_CASE("view refuses bad strand files, meshes and options with exit 2 and no output", "[cli]") {
+  ScratchDir scratch("view_files");
+  const std::string groom = write_sintel_groom(scratch, "g", "");
+  const fs::path out = scratch.path / "out";
+  const std::string o = out.string();
+  const std::string mesh = sintel_dir() + "/sintel.obj";
+  run_ok("regrow " + quoted(groom) + " --frames 1-3 --strands 30 --out " + quoted(scratch / "h.####.hair"), scratch);
+  run_ok("regrow " + quoted(groom) + " --frames 1 --strands 40 --out " + quoted(scratch / "other.####.hair"), scratch);
+  const std::string page = " --out " + quoted(o + "/v.html");
+  const std::string pattern = quoted(scratch / "h.####.hair");
+  require_refused("view " + pattern + " --frames 1-3" + page, "--mesh: expected the skin", scratch, out);
+  require_refused("view " + pattern + " --mesh " + quoted(mesh) + page, "--frames", scratch, out);
+  require_refused("view " + quoted(scratch / "h.0001.hair") + " --frames 1-2 --mesh " + quoted(mesh) + page,
+                  "a range needs a pattern", scratch, out);
+  require_refused("view " + pattern + " --frames 1-3 --mesh " + quoted(scratch / "h.0001.hair") + page,
+                  "--mesh: expected an .obj", scratch, out);
+  require_refused("view " + pattern + " --frames 1-4 --mesh " + quoted(mesh) + page, "h.0004.hair", scratch, out);
+  require_refused("view " + pattern + " --frames 1-3 --strands 10 --mesh " + quoted(mesh) + page, "--strands", scratch, out);
+  require_refused("view " + quoted(groom) + " --mesh " + quoted(mesh) + page, "--mesh: a groom names its emitter",
+                  scratch, out);
+  require_refused("view " + quoted(scratch / "h.0001.txt") + " --mesh " + quoted(mesh) + page,
+                  "expected a groom (.yaml) or strand files", scratch, out);
+  // A frame whose file holds other strands than the first frame's.
+  fs::copy_file(scratch / "other.0001.hair", scratch / "h.0002.hair", fs::copy_options::overwrite_existing);
+  require_refused("view " + pattern + " --frames 1-3 --mesh " + quoted(mesh) + page, "h.0002.hair", scratch, out);
+  // A mesh pattern whose frame is missing.
+  require_refused("view " + quoted(scratch / "h.0001.hair") + " --frames 7 --mesh " + quoted(scratch / "skin.####.obj") + page,
+                  "skin.0007.obj", scratch, out);
+}
+
 TEST_CASE("a view page is written whole, in one file, and names the groom", "[cli]") {
   ScratchDir scratch("view_page");
   const std::string groom = write_sintel_groom(scratch, "g", "name: little_head\n");

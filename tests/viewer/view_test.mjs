@@ -182,6 +182,25 @@ const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     `by parting side: ${shades.length} shades; mean x of the darker side ${meanX(darker).toFixed(2)}, of the lighter ${meanX(lighter).toFixed(2)} (the parting near x = 3)`);
 }
 
+// ---- A page of strand files: plume regrow's .hair files of frames 1-8 on the rest skin. Their
+// strands are the file's, and at frame 1 (the rest pose) the checker finds what it found above.
+const filesPage = join(work, 'files.html');
+plume('view', join(work, 'hair.####.hair'), '--frames', '1-8', '--mesh', sintelMesh, '--tolerance', '0.01', '--out', filesPage);
+const files = readPage(filesPage);
+{
+  const hair1 = readHair(join(work, 'hair.0001.hair')), hair8 = readHair(join(work, 'hair.0008.hair'));
+  const p1 = files.arrays[files.manifest.strands.positions[0]], p8 = files.arrays[files.manifest.strands.positions[7]];
+  let same = p1.length === hair1.positions.length && p8.length === hair8.positions.length;
+  for (let i = 0; same && i < p1.length; ++i) same = Object.is(p1[i], hair1.positions[i]) && Object.is(p8[i], hair8.positions[i]);
+  check(files.manifest.strands.total === hair1.hairs && same,
+    `a page of .hair files holds their ${files.manifest.strands.total} strands, frames 1 and 8 to the bit`);
+  const f1 = files.manifest.check.frames[0];
+  check(f1.points_inside === inside && f1.crossing_pairs === pairs,
+    `its frame 1 check is plume check's (${f1.points_inside} inside, ${f1.crossing_pairs} crossing pairs)`);
+  check(files.manifest.colors.map((c) => c.mode).join() === 'plain,problems' && files.manifest.guides.count === 0,
+    'strand files without a groom are coloured plain or by problems, with no guides');
+}
+
 // ---- A sampled page: a budget below the strands. The skin and guides move (a rigid turn and
 // dynamics): they take their points on every frame, and the strands share what is left.
 const sampled = join(work, 'sampled.html');
@@ -341,6 +360,12 @@ try {
   check(problems.length === 0, `no error logged by the page${problems.length ? ': ' + problems.join('; ') : ''}`);
   const remote = requests.filter((url) => !url.startsWith('file:') && !url.startsWith('data:'));
   check(remote.length === 0, `no request beyond the file and its data${remote.length ? ': ' + remote.join(' ') : ''}`);
+
+  // The page of strand files reports the files' strand count.
+  await open(filesPage);
+  const filesCount = await browser.evaluate("Number(document.getElementById('strand-count').dataset.total)");
+  check(filesCount === STRANDS && problems.length === 0,
+    `a page of .hair files reports their ${filesCount} strands, with no error${problems.length ? ': ' + problems.join('; ') : ''}`);
 
   // The sampled page says what it shows.
   await open(sampled);

@@ -74,6 +74,16 @@ function placeCamera(scene, controls) {
   controls.update();
 }
 
+// True when WebGL runs in software (the renderer's name, where the browser tells it).
+function softwareRenderer() {
+  const gl = document.createElement('canvas').getContext('webgl2');
+  if (!gl) return false;
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+  gl.getExtension('WEBGL_lose_context')?.loseContext();
+  return /swiftshader|llvmpipe|software/i.test(name);
+}
+
 async function start() {
   const started = performance.now();
   const style = document.createElement('style');
@@ -82,14 +92,18 @@ async function start() {
 
   const { manifest, arrays } = await loadScene(document);
   const scene = new PlumeScene(manifest, arrays);
+  const dataMilliseconds = performance.now();
 
   const canvas = document.createElement('canvas');
   canvas.id = 'plume-canvas';
   document.body.appendChild(canvas);
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, alpha: true, preserveDrawingBuffer: true });
+  // A software renderer (SwiftShader, llvmpipe: no GPU, as in many virtual machines) draws the lines
+  // on the CPU: without multisampling and at one sample a pixel it stays interactive.
+  const software = softwareRenderer();
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias: !software, alpha: true, preserveDrawingBuffer: true });
   renderer.autoClear = false;
   renderer.setClearColor(0x000000, 0);
-  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  renderer.setPixelRatio(software ? 1 : window.devicePixelRatio || 1);
   const controls = new OrbitControls(scene.camera, canvas);
 
   let pending = false;
@@ -150,9 +164,12 @@ async function start() {
       }
       return box;
     },
-    /// Milliseconds from the navigation to the first frame drawn, and of that in this script.
+    /// Milliseconds from the navigation: to the scene read (parsed, decoded, its geometry built)
+    /// and to the first frame drawn; and the part of the latter spent in this script.
+    dataMilliseconds,
     loadMilliseconds,
     scriptMilliseconds: loadMilliseconds - started,
+    software,
   });
   Object.defineProperties(api, {
     frameIndex: { get: () => scene.frameIndex, enumerable: true },

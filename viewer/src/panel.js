@@ -62,7 +62,8 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
   // Layers.
   const skin = checkbox(doc, 'show-skin', 'Skin', true);
   const hair = checkbox(doc, 'show-strands', 'Strands', true);
-  const guides = checkbox(doc, 'show-guides', `Guides (${number(manifest.guides.count)})`, false);
+  const guides = checkbox(doc, 'show-guides', manifest.guides.count ? `Guides (${number(manifest.guides.count)})` : 'Guides (none)', false);
+  guides.input.disabled = manifest.guides.count === 0;
   const layers = [skin.label, hair.label, guides.label];
   let vanes = null;
   if (manifest.vanes) {

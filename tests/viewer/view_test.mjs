@@ -276,7 +276,11 @@ try {
     for (const type of ['mousePressed', 'mouseReleased'])
       await browser.page('Input.dispatchMouseEvent', { type, x, y, button: 'left', clickCount: 1 });
   };
-  const KEYS = { ArrowLeft: { code: 'ArrowLeft', keyCode: 37 }, g: { code: 'KeyG', keyCode: 71, text: 'g' } };
+  const KEYS = {
+    ArrowLeft: { code: 'ArrowLeft', keyCode: 37 },
+    g: { code: 'KeyG', keyCode: 71, text: 'g' },
+    Enter: { code: 'Enter', keyCode: 13, text: '\r' },
+  };
   const press = async (key) => {
     const { code, keyCode, text } = KEYS[key];
     await browser.page('Input.dispatchKeyEvent', { type: text ? 'keyDown' : 'rawKeyDown', key, code, windowsVirtualKeyCode: keyCode, ...(text ? { text } : {}) });
@@ -348,6 +352,51 @@ try {
   check(summary.includes(`${manifest.check.frames[0].crossing_pairs.toLocaleString('en-US')} crossing pairs`),
     `the check summary states the checker's count ("${summary}")`);
   await setMode('plain');
+
+  // A strand the checker flags, found by its id as plume check prints it: drawn in white, and the
+  // panel says what the checker found on it. An id the page does not hold is said so.
+  const flaggedIndex = arrays[frame1.flags].findIndex((f) => f !== 0);
+  const flaggedId = arrays[manifest.strands.ids][flaggedIndex];
+  // (The skin is hidden meanwhile: the strand may lie behind the head.)
+  const white = (image) => pixels(image, (r, g, b) => r > 235 && g > 235 && b > 235, { left: panel.right + 1, top: 0, right: image.width, bottom: image.height });
+  const skinBox = await rect('label[for="show-skin"]');
+  await click(skinBox.left + 3, skinBox.top + 3);
+  const whiteBefore = white(await shot());
+  const findBox = await rect('#find-strand');
+  await click(findBox.left + 5, (findBox.top + findBox.bottom) / 2);
+  await browser.page('Input.insertText', { text: String(flaggedId) });
+  await press('Enter');
+  const whiteAfter = white(await shot());
+  await click(skinBox.left + 3, skinBox.top + 3);
+  const info = await browser.evaluate("document.getElementById('strand-info').textContent");
+  check((await browser.evaluate('plumeViewer.selectedStrand')) === flaggedId && info.includes('crossing another strand') &&
+    whiteAfter > whiteBefore + 20,
+    `finding strand ${flaggedId} by id draws it in white (${whiteBefore} -> ${whiteAfter} white pixels): "${info}"`);
+  await browser.evaluate("document.getElementById('find-strand').value = ''");
+  await click(findBox.left + 5, (findBox.top + findBox.bottom) / 2);
+  await browser.page('Input.insertText', { text: '987654321' });
+  await press('Enter');
+  const missing = await browser.evaluate("document.getElementById('strand-info').textContent");
+  check(missing.includes('987654321 is not on this page') && (await browser.evaluate('plumeViewer.selectedStrand')) === null,
+    `an id the page does not hold is said so ("${missing}")`);
+
+  // A click on hair picks a strand; a click on the background picks none.
+  let best = null;
+  for (let y = Math.ceil(box.top); y < box.bottom && !best; y += 3)
+    for (let x = Math.ceil(box.left); x < box.right; x += 3) {
+      const i = 4 * (y * first.width + x);
+      const lit = (p) => p.rgba[i] + p.rgba[i + 1] + p.rgba[i + 2];
+      if (x > panel.right + 5 && Math.abs(lit(first) - lit(bald)) > 60 && first.rgba[i] > first.rgba[i + 2] + 30) {
+        best = { x, y };
+        break;
+      }
+    }
+  await click(best.x, best.y);
+  const picked = await browser.evaluate('plumeViewer.selectedStrand');
+  check(picked !== null && (await browser.evaluate("document.getElementById('strand-info').textContent")).startsWith(`Strand ${picked}`),
+    `a click on hair at (${best.x}, ${best.y}) picks strand ${picked}`);
+  await click(first.width - 10, first.height - 10);
+  check((await browser.evaluate('plumeViewer.selectedStrand')) === null, 'a click on the background picks none');
 
   // Orbit: a drag turns the head.
   const centre = { x: (box.left + box.right) / 2, y: (box.top + box.bottom) / 2 };

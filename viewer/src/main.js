@@ -129,6 +129,24 @@ async function start() {
   controls.addEventListener('change', requestDraw);
 
   const panel = buildPanel(document, manifest, scene, requestDraw);
+
+  // A click (a press and release without a drag) picks the strand under the pointer.
+  const raycaster = new THREE.Raycaster();
+  let pressed = null;
+  canvas.addEventListener('pointerdown', (event) => {
+    pressed = event.button === 0 ? { x: event.clientX, y: event.clientY } : null;
+  });
+  canvas.addEventListener('pointerup', (event) => {
+    if (!pressed || Math.hypot(event.clientX - pressed.x, event.clientY - pressed.y) > 4) return;
+    const rect = canvas.getBoundingClientRect();
+    const pointer = new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1,
+      -((event.clientY - rect.top) / rect.height) * 2 + 1);
+    raycaster.setFromCamera(pointer, scene.camera);
+    // Four pixels at the orbit's centre, in world units.
+    const distance = scene.camera.position.distanceTo(controls.target);
+    const perPixel = (2 * distance * Math.tan((scene.camera.fov * Math.PI) / 360)) / rect.height;
+    panel.selectIndex(scene.pick(raycaster, 4 * perPixel));
+  });
   placeCamera(scene, controls);
   scene.setFrame(0);
   scene.setMode('plain');
@@ -147,6 +165,8 @@ async function start() {
     frames: manifest.frames,
     setFrame: (index) => panel.setFrame(index),
     setMode: (mode) => panel.setMode(mode),
+    /// Selects the strand with this stable id; its index among the shown strands, or -1.
+    selectStrand: (id) => panel.selectId(id),
     /// The box (CSS pixels: left, top, right, bottom) holding every shown strand point of the
     /// current frame as drawn now.
     strandScreenBox() {
@@ -174,6 +194,7 @@ async function start() {
   Object.defineProperties(api, {
     frameIndex: { get: () => scene.frameIndex, enumerable: true },
     mode: { get: () => scene.mode, enumerable: true },
+    selectedStrand: { get: () => (scene.selectedStrand >= 0 ? arrays[manifest.strands.ids][scene.selectedStrand] : null), enumerable: true },
   });
   setState('ready');
 }

@@ -80,11 +80,18 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
   if (frames.length < 2) frameRow.style.display = 'none';
   panel.appendChild(frameRow);
 
+  // One strand: found by its id (as plume check names strands) or picked with a click.
+  const find = element(doc, 'input', { type: 'text', id: 'find-strand', placeholder: 'strand id', size: 10 });
+  const strandInfo = element(doc, 'div', { id: 'strand-info', class: 'note' });
+  panel.appendChild(element(doc, 'div', { class: 'row' }, [element(doc, 'label', { for: 'find-strand', text: 'Find strand' }), find]));
+  panel.appendChild(strandInfo);
+  const ids = scene.arrays[strands.ids];
+
   // The checker at this frame.
   const summary = element(doc, 'div', { id: 'check-summary', class: 'note' });
   panel.appendChild(summary);
   panel.appendChild(
-    element(doc, 'div', { class: 'help', text: 'Drag: turn · wheel: zoom · right drag: pan · space: play · ←/→: frame · g: guides' }),
+    element(doc, 'div', { class: 'help', text: 'Drag: turn · wheel: zoom · right drag: pan · click: a strand · space: play · ←/→: frame · g: guides' }),
   );
   doc.body.appendChild(panel);
 
@@ -105,6 +112,32 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
     if (strands.sample && f.strands_flagged > 0) text += `; ${number(f.flagged_shown)} of the ${number(f.strands_flagged)} flagged strands shown`;
     summary.textContent = text;
     summary.classList.toggle('bad', f.points_inside > 0 || f.crossing_pairs > 0);
+    if (scene.selectedStrand >= 0) {
+      const flags = scene.flags()[scene.selectedStrand];
+      const problem = [flags & 1 ? 'a point inside the skin' : '', flags & 2 ? 'crossing another strand' : '']
+        .filter(Boolean).join(' and ') || 'no problem found';
+      strandInfo.textContent = `Strand ${ids[scene.selectedStrand]} (white): ${problem} at frame ${frames[index]}`;
+    }
+  };
+
+  /// Selects the strand with stable id `id`, or reports that the page does not hold it.
+  const selectId = (id) => {
+    const strand = ids.indexOf(id);
+    scene.select(strand);
+    if (strand < 0) {
+      strandInfo.textContent = Number.isInteger(id)
+        ? `Strand ${id} is not on this page` + (strands.sample ? ' (the page shows a sample of the strands)' : '')
+        : 'A strand id is a whole number, as plume check prints it';
+    }
+    update();
+    requestDraw();
+    return strand;
+  };
+  const selectIndex = (strand) => {
+    scene.select(strand);
+    if (strand < 0) strandInfo.textContent = '';
+    update();
+    requestDraw();
   };
 
   const setFrame = (index) => {
@@ -156,6 +189,9 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
     }
   };
 
+  find.addEventListener('keydown', (event) => {
+    if (event.key === 'Enter') selectId(Number(find.value.trim()));
+  });
   slider.addEventListener('input', () => setFrame(Number(slider.value)));
   play.addEventListener('click', togglePlay);
   select.addEventListener('change', () => setMode(select.value));
@@ -163,6 +199,7 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
   doc.addEventListener('keydown', (event) => {
     // A focused slider or menu takes the arrows itself, and a focused button, box or menu the space bar.
     const target = event.target;
+    if (target instanceof HTMLInputElement && target.type === 'text') return;
     const slider = target instanceof HTMLInputElement && target.type === 'range';
     const arrowsTaken = slider || target instanceof HTMLSelectElement;
     const spaceTaken = !slider && (target instanceof HTMLInputElement || target instanceof HTMLButtonElement ||
@@ -179,5 +216,5 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
       applyLayers();
     }
   });
-  return { update, setFrame, setMode };
+  return { update, setFrame, setMode, selectId, selectIndex };
 }

@@ -169,6 +169,16 @@ export class PlumeScene {
     this.flagged.frustumCulled = false;
     this.overlay.add(this.flagged);
 
+    // One strand picked or found by id, in white over everything but the skin.
+    this.selectedGeometry = new THREE.BufferGeometry();
+    this.selectedGeometry.setAttribute('position', this.strandGeometry.getAttribute('position'));
+    this.selectedGeometry.setIndex(new THREE.BufferAttribute(new Uint32Array(0), 1));
+    this.selected = new THREE.LineSegments(this.selectedGeometry, new THREE.LineBasicMaterial({ color: 0xffffff }));
+    this.selected.frustumCulled = false;
+    this.selected.renderOrder = 1;
+    this.overlay.add(this.selected);
+    this.selectedStrand = -1;
+
     // Guides, drawn over the strands.
     const guides = manifest.guides;
     this.guideOffsets = arrays[guides.offsets];
@@ -220,6 +230,7 @@ export class PlumeScene {
     this.skinGeometry.computeVertexNormals();
     const positions = a[m.strands.positions[index]];
     copy(this.strandGeometry, 'position', positions);
+    this.strandGeometry.boundingSphere = null;  // picking bounds the strands anew
     const tangents = this.strandGeometry.getAttribute('tangent');
     computeTangents(positions, this.strandOffsets, tangents.array);
     tangents.needsUpdate = true;
@@ -271,6 +282,37 @@ export class PlumeScene {
     }
     colors.needsUpdate = true;
     this.flaggedGeometry.setIndex(new THREE.BufferAttribute(segmentIndex(offsets, flagged), 1));
+  }
+
+  /// Shows strand `strand` (an index among the shown strands; -1: none) in white.
+  select(strand) {
+    this.selectedStrand = strand;
+    this.selectedGeometry.setIndex(new THREE.BufferAttribute(segmentIndex(this.strandOffsets, strand >= 0 ? [strand] : []), 1));
+  }
+
+  /// The strand under `raycaster`'s ray within `threshold` (world units), in front of the skin when
+  /// the skin is shown; -1 when none.
+  pick(raycaster, threshold) {
+    if (!this.strands.visible) return -1;
+    raycaster.params.Line.threshold = threshold;
+    const hits = raycaster.intersectObject(this.strands, false);
+    if (hits.length === 0) return -1;
+    let skin = Infinity;
+    if (this.skin.visible) {
+      const skinHits = raycaster.intersectObject(this.skin, false);
+      if (skinHits.length) skin = skinHits[0].distance + threshold;
+    }
+    const hit = hits.find((h) => h.distance <= skin);
+    if (!hit) return -1;
+    const point = this.strandGeometry.index.getX(hit.index);
+    // The strand holding the point: offsets ascend.
+    let low = 0, high = this.strandCount - 1;
+    while (low < high) {
+      const mid = (low + high + 1) >> 1;
+      if (this.strandOffsets[mid] <= point) low = mid;
+      else high = mid - 1;
+    }
+    return low;
   }
 
   /// Draws the frame: the skin and the hair, then over them (tested against the skin's depth only)

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "app/commands.h"
 #include "app/pipeline.h"
@@ -72,22 +73,25 @@ void run_preview(const PreviewArgs &args) {
       ProblemOptions check;
       check.crossing_tolerance = args.tolerance;
       check.skin_margin = args.margin;
+      // As plume check --groom: the crossings of a groom with effects are judged before them.
+      std::optional<StrandSet> before_effects;
+      if (!groom.effects.empty()) before_effects = pipeline.produce(args.frame, false).strands;
       try {
-        problems = find_problems(result.strands, result.mesh, check);
+        problems = find_problems(result.strands, result.mesh, check, before_effects ? &*before_effects : nullptr);
       } catch (const InputError &e) {
+        if (!(args.tolerance > 0.0f)) throw;
         char tolerance[32];
         std::snprintf(tolerance, sizeof tolerance, "%g", double(args.tolerance));
         throw InputError(std::string("--tolerance ") + tolerance + ": " + e.what());
       }
       paint.on_top.resize(problems.flags.size());
-      for (size_t s = 0; s < problems.flags.size(); ++s) paint.on_top[s] = problems.flags[s] != 0;
-      std::printf("frame %d: %zu points inside the skin (margin %g) in %zu strands; ", args.frame,
-                  problems.points_inside, double(args.margin), problems.strands_inside);
-      if (problems.crossings_checked)
-        std::printf("%zu crossing strand pairs (tolerance %g), %zu drawn\n", problems.crossing_pairs,
-                    double(args.tolerance), problems.pairs_flagged);
-      else
-        std::printf("crossings not checked (give --tolerance)\n");
+      for (size_t s = 0; s < problems.flags.size(); ++s) paint.on_top[s] = problem_is_violation(problems.flags[s]);
+      std::printf("frame %d: %zu points inside the skin (margin %g) in %zu strands; crossing strand pairs%s "
+                  "(tolerance %g): %zu transversal, %zu touching; drawn: %zu transversal, %zu touching\n",
+                  args.frame, problems.points_inside, double(args.margin), problems.strands_inside,
+                  problems.crossings_before_effects ? " before effects" : "", double(problems.tolerance),
+                  problems.transversal_pairs, problems.touching_pairs, problems.transversal_flagged,
+                  problems.touching_flagged);
     }
     paint.colors = linear_colors(strand_colors(mode, result.strands, strand_attributes(pipeline), &problems, style));
   }
@@ -122,8 +126,8 @@ void add_preview_command(CLI::App &app, int &r_exit_code) {
                   "Strand colours: plain (default), guide (the guide that weighs most), clump, zone (hard zone; the "
                   "sides of a partial parting lighter and darker), problems (plume check's findings, drawn on top)");
   cmd->add_option("--tolerance", args->tolerance,
-                  "With --color problems: crossing tolerance as plume check's (scene units; 0, the default, skips "
-                  "crossings)")
+                  "With --color problems: crossing tolerance as plume check's (scene units; default: 1e-3 of the "
+                  "strands' median segment length)")
       ->check(finite_non_negative());
   cmd->add_option("--margin", args->margin, "With --color problems: skin margin, as plume check's")
       ->check(finite_non_negative());

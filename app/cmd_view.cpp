@@ -65,6 +65,9 @@ struct ViewInput {
   /// The frame's skin, guides and strands (same offsets as above); frames are asked for in
   /// increasing order, and once more from the first for a second pass.
   std::function<FrameResult(int)> produce;
+  /// A groom with effects: the frame's strands grown without them, after produce() of that frame
+  /// (the checker judges their crossings, as plume check --groom does). Empty otherwise.
+  std::function<StrandSet(int)> produce_before_effects;
 };
 
 /// One frame's findings, kept for the manifest: the counts and the strands flagged (sparse).
@@ -159,17 +162,22 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
     Progress progress("view", int(frame_count));
     for (int64_t i = 0; i < frame_count; ++i) {
       const FrameResult result = input.produce(range.at(i));
+      std::optional<StrandSet> before_effects;
+      if (input.produce_before_effects) before_effects = input.produce_before_effects(range.at(i));
       try {
-        StrandProblems problems = find_problems(result.strands, result.mesh, check_options);
+        StrandProblems problems =
+            find_problems(result.strands, result.mesh, check_options, before_effects ? &*before_effects : nullptr);
         FrameCheck &check = checks[size_t(i)];
         for (size_t s = 0; s < problems.flags.size(); ++s) {
           if (!problems.flags[s]) continue;
           check.flagged.emplace_back(uint32_t(s), problems.flags[s]);
-          ever_flagged[s] = 1;
+          // Touching (near-parallel) is no violation: it does not claim a place in the sample.
+          if (problem_is_violation(problems.flags[s])) ever_flagged[s] = 1;
         }
         problems.flags.clear();
         check.counts = problems;
       } catch (const InputError &e) {
+        if (!(args.tolerance > 0.0f)) throw InputError("frame " + std::to_string(range.at(i)) + ": " + e.what());
         char tolerance[32];
         std::snprintf(tolerance, sizeof tolerance, "%g", double(args.tolerance));
         throw InputError(std::string("--tolerance ") + tolerance + ": " + e.what());
@@ -186,7 +194,7 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
     }
   }
 
-  // The strands shown: every strand the checker flagged in some frame (a sample of them when they
+  // The strands shown: every strand with a violation in some frame (a sample of them when they
   // alone exceed the budget), then the kept sample up to the budget.
   std::vector<uint32_t> flagged_strands;
   for (size_t s = 0; s < strand_count; ++s)
@@ -344,8 +352,9 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
 
   // The checker's findings per frame, with the flags of the shown strands.
   json.key("check").begin_object();
-  json.key("margin").value(args.margin).key("tolerance").value(args.tolerance);
-  json.key("crossings_checked").value(args.tolerance > 0.0f);
+  json.key("margin").value(args.margin).key("tolerance_option").value(args.tolerance);
+  json.key("transversal_degrees").value(check_options.transversal_degrees);
+  json.key("before_effects").value(bool(input.produce_before_effects));
   json.key("palette").begin_object();
   json.key("clean");
   write_color(json, kProblemClean);
@@ -355,17 +364,21 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
   write_color(json, kProblemCrossingColor);
   json.key("both");
   write_color(json, kProblemBothColor);
+  json.key("touching");
+  write_color(json, kProblemTouchingColor);
   json.end_object();
   json.key("frames").begin_array();
   int clean_flags = -1;
   for (const FrameCheck &check : checks) {
     std::vector<uint8_t> flags(shown.size(), 0);
-    size_t flagged_here = 0;
+    size_t flagged_here = 0, violations = 0, violations_here = 0;
     for (const auto &[s, f] : check.flagged) {
+      violations += problem_is_violation(f);
       const auto at = std::lower_bound(shown.begin(), shown.end(), s);
       if (at != shown.end() && *at == s) {
         flags[size_t(at - shown.begin())] = f;
         ++flagged_here;
+        violations_here += problem_is_violation(f);
       }
     }
     int buffer;
@@ -377,8 +390,11 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
     }
     json.begin_object();
     json.key("points_inside").value(check.counts.points_inside).key("strands_inside").value(check.counts.strands_inside);
-    json.key("crossing_pairs").value(check.counts.crossing_pairs).key("pairs_flagged").value(check.counts.pairs_flagged);
-    json.key("strands_flagged").value(check.flagged.size()).key("flagged_shown").value(flagged_here);
+    json.key("tolerance").value(check.counts.tolerance);
+    json.key("transversal_pairs").value(check.counts.transversal_pairs).key("touching_pairs").value(check.counts.touching_pairs);
+    json.key("transversal_flagged").value(check.counts.transversal_flagged);
+    json.key("touching_flagged").value(check.counts.touching_flagged);
+    json.key("strands_flagged").value(violations).key("flagged_shown").value(violations_here);
     json.key("flags").value(buffer);
     json.end_object();
   }
@@ -420,6 +436,8 @@ void view_groom(const ViewArgs &args) {
   input.bounds = groom_bounds(pipeline);
   input.attributes = strand_attributes(pipeline);
   input.produce = [&pipeline](int frame) { return pipeline.produce(frame); };
+  if (!groom.effects.empty())
+    input.produce_before_effects = [&pipeline](int frame) { return pipeline.produce(frame, false).strands; };
   write_view(input, range, args);
 }
 
@@ -535,8 +553,8 @@ void add_view_command(CLI::App &app, int &r_exit_code) {
                   "the page shows a stated sample of the strands, with every strand the checker flags")
       ->check(CLI::Range(int64_t(1), kMaxViewPoints));
   cmd->add_option("--tolerance", args->tolerance,
-                  "Crossing tolerance for the problems colours, as plume check's (scene units; 0, the default, skips "
-                  "crossings)")
+                  "Crossing tolerance for the problems colours, as plume check's (scene units; default: 1e-3 of the "
+                  "strands' median segment length)")
       ->check(finite_non_negative());
   cmd->add_option("--margin", args->margin, "Skin margin for the problems colours, as plume check's")
       ->check(finite_non_negative());

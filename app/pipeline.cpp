@@ -135,6 +135,11 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
 
 }  // namespace
 
+Roots groom_roots(const GroomDesc &groom, const Mesh &rest_mesh, const Guides &guides, int64_t count_override) {
+  const MeshQuery rest_query(rest_mesh);
+  return make_roots(groom, rest_mesh, rest_query, guides, count_override);
+}
+
 Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
   Eigen::Affine3f pose = Eigen::Affine3f::Identity();
   if (animation.kind != EmitterAnimation::Kind::rigid || animation.keys.empty()) return pose;
@@ -172,8 +177,8 @@ Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : gro
   const MeshQuery rest_query(rest_mesh_);
   guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
   if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");
-  roots_ = make_roots(groom_, rest_mesh_, rest_query, guides_, options_.strand_count);
-  if (roots_.size() == 0 && options_.strand_count != 0)
+  roots_ = options_.roots ? *options_.roots : make_roots(groom_, rest_mesh_, rest_query, guides_, options_.strand_count);
+  if (roots_.size() == 0 && options_.strand_count != 0 && !options_.roots)
     throw InputError(groom_.roots.loc, "roots: no roots to grow (the roots file holds no points)");
   if (rest_mesh_.has_uvs()) {
     root_uvs_.resize(roots_.size());
@@ -194,11 +199,11 @@ Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : gro
 
 Pipeline::~Pipeline() = default;
 
-Mesh Pipeline::posed_mesh(int frame) const {
-  const EmitterAnimation &animation = groom_.animation;
+Mesh posed_emitter(const GroomDesc &groom, const Mesh &rest_mesh, int frame) {
+  const EmitterAnimation &animation = groom.animation;
   if (animation.kind == EmitterAnimation::Kind::obj_sequence)
-    return io::read_obj_pose(expand_frame_pattern(animation.sequence_pattern, frame), rest_mesh_);
-  Mesh posed = rest_mesh_;
+    return io::read_obj_pose(expand_frame_pattern(animation.sequence_pattern, frame), rest_mesh);
+  Mesh posed = rest_mesh;
   if (animation.kind == EmitterAnimation::Kind::rigid) {
     const Eigen::Affine3f pose = rigid_pose_at(animation, frame);
     for (Eigen::Vector3f &p : posed.positions) p = pose * p;
@@ -206,6 +211,8 @@ Mesh Pipeline::posed_mesh(int frame) const {
   }
   return posed;
 }
+
+Mesh Pipeline::posed_mesh(int frame) const { return posed_emitter(groom_, rest_mesh_, frame); }
 
 StrandSet Pipeline::guides_at(int frame, const Mesh &posed) {
   if (!groom_.dynamics.enabled) return carry_guides(rest_mesh_, posed, guides_);
@@ -225,7 +232,7 @@ StrandSet Pipeline::guides_at(int frame, const Mesh &posed) {
   return simulator_->guides();
 }
 
-FrameResult Pipeline::produce(int frame) {
+FrameResult Pipeline::produce(int frame, bool with_effects) {
   FrameResult result;
   result.frame = frame;
   result.mesh = posed_mesh(frame);
@@ -244,8 +251,9 @@ FrameResult Pipeline::produce(int frame) {
     skin_grid.emplace(result.mesh, query);
   const skin::SkinGrid *grid = skin_grid ? &*skin_grid : nullptr;
   interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance, grid);
-  effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands, clearance,
-                  grid);
+  if (with_effects)
+    effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands, clearance,
+                    grid);
   return result;
 }
 

@@ -136,10 +136,14 @@ StrandAttributes strand_attributes(const Pipeline &pipeline) {
   return attributes;
 }
 
-StrandProblems find_problems(const StrandSet &strands, const Mesh &mesh, const ProblemOptions &options) {
+StrandProblems find_problems(const StrandSet &strands, const Mesh &mesh, const ProblemOptions &options,
+                             const StrandSet *before_effects) {
   StrandProblems problems;
   const size_t strand_count = strands.strand_count();
   problems.flags.assign(strand_count, 0);
+  if (before_effects && before_effects->strand_count() != strand_count)
+    throw InternalError("find_problems: " + std::to_string(before_effects->strand_count()) +
+                        " strands before effects for " + std::to_string(strand_count));
   // The checker names strands by id (by index when they have none).
   const bool has_ids = strands.ids.size() == strand_count;
   std::unordered_map<uint64_t, uint32_t> index_of;
@@ -160,43 +164,64 @@ StrandProblems find_problems(const StrandSet &strands, const Mesh &mesh, const P
   problems.points_inside = check::count_points_inside(strands, query, options.skin_margin, strand_count, inside);
   problems.strands_inside = inside.size();
   for (uint64_t id : inside) flag(id, kProblemInside);
-  if (options.crossing_tolerance > 0.0f) {
-    check::CrossingCount crossings = check::count_crossings(strands, options.crossing_tolerance, options.max_pairs);
-    problems.crossings_checked = true;
-    problems.crossing_pairs = crossings.pairs;
-    if (crossings.pairs > crossings.examples.size()) {
-      // The checker keeps its lowest pairs by strand index, and neighbouring roots have
-      // neighbouring indices: with more pairs than are flagged, the strands go to it again in an
-      // order hashed from their ids, so that the pairs flagged are a sample spread over the whole
-      // groom, not one patch. The count stays the first one, made in the order plume check uses
-      // (the order may change the verdict on a segment pair whose distance rounds to the tolerance).
-      // The shuffled set's ids are the strands' indices here, so the examples name them directly.
-      std::vector<uint32_t> order(strand_count);
-      std::vector<uint64_t> keys(strand_count);
-      for (size_t s = 0; s < strand_count; ++s) {
-        order[s] = uint32_t(s);
-        keys[s] = hash64((has_ids ? strands.ids[s] : s) ^ 0x63726f7373ull);
-      }
-      std::sort(order.begin(), order.end(),
-                [&](uint32_t a, uint32_t b) { return keys[a] != keys[b] ? keys[a] < keys[b] : a < b; });
-      StrandSet shuffled;
-      shuffled.offsets.reserve(strand_count + 1);
-      shuffled.positions.reserve(strands.point_count());
-      shuffled.ids.reserve(strand_count);
-      for (uint32_t s : order) shuffled.append(strands.points(s), s);
-      crossings = check::count_crossings(shuffled, options.crossing_tolerance, options.max_pairs);
-      for (const auto &[a, b] : crossings.examples) {
-        problems.flags[size_t(a)] |= kProblemCrossing;
-        problems.flags[size_t(b)] |= kProblemCrossing;
-      }
-    } else {
-      for (const auto &[a, b] : crossings.examples) {
-        flag(a, kProblemCrossing);
-        flag(b, kProblemCrossing);
-      }
-    }
-    problems.pairs_flagged = crossings.examples.size();
+
+  check::CheckOptions check_options;
+  check_options.crossing_tolerance = options.crossing_tolerance;
+  problems.tolerance = check::crossing_tolerance_for(strands, check_options);
+  problems.crossings_before_effects = before_effects != nullptr;
+  // The strands judged keep the checked strands' ids, so that the examples name them.
+  StrandSet judged_copy;
+  const StrandSet *judged = &strands;
+  if (before_effects) {
+    judged_copy = *before_effects;
+    judged_copy.ids = strands.ids;
+    judged = &judged_copy;
   }
+  check::CrossingCount crossings =
+      check::count_crossings(*judged, problems.tolerance, options.max_pairs, options.transversal_degrees);
+  problems.transversal_pairs = crossings.transversal_pairs;
+  problems.touching_pairs = crossings.touching_pairs;
+  if (crossings.transversal_pairs > crossings.transversal_examples.size() ||
+      crossings.touching_pairs > crossings.touching_examples.size()) {
+    // The checker keeps its lowest pairs by strand index, and neighbouring roots have neighbouring
+    // indices: with more pairs than are flagged, the strands go to it again in an order hashed from
+    // their ids, so that the pairs flagged are a sample spread over the whole groom, not one patch.
+    // The counts stay the first ones, made in the order plume check uses (the order may change the
+    // verdict on a segment pair whose distance rounds to the tolerance). The shuffled set's ids are
+    // the strands' indices, so its examples name them directly.
+    std::vector<uint32_t> order(strand_count);
+    std::vector<uint64_t> keys(strand_count);
+    for (size_t s = 0; s < strand_count; ++s) {
+      order[s] = uint32_t(s);
+      keys[s] = hash64((has_ids ? strands.ids[s] : s) ^ 0x63726f7373ull);
+    }
+    std::sort(order.begin(), order.end(),
+              [&](uint32_t a, uint32_t b) { return keys[a] != keys[b] ? keys[a] < keys[b] : a < b; });
+    StrandSet shuffled;
+    shuffled.offsets.reserve(strand_count + 1);
+    shuffled.positions.reserve(judged->point_count());
+    shuffled.ids.reserve(strand_count);
+    for (uint32_t s : order) shuffled.append(judged->points(s), s);
+    const check::CrossingCount sample =
+        check::count_crossings(shuffled, problems.tolerance, options.max_pairs, options.transversal_degrees);
+    crossings.transversal_examples = sample.transversal_examples;
+    crossings.touching_examples = sample.touching_examples;
+    for (auto &examples : {&crossings.transversal_examples, &crossings.touching_examples})
+      for (auto &[a, b] : *examples) {
+        a = has_ids ? strands.ids[size_t(a)] : a;
+        b = has_ids ? strands.ids[size_t(b)] : b;
+      }
+  }
+  for (const auto &[a, b] : crossings.transversal_examples) {
+    flag(a, kProblemCrossing);
+    flag(b, kProblemCrossing);
+  }
+  for (const auto &[a, b] : crossings.touching_examples) {
+    flag(a, kProblemTouching);
+    flag(b, kProblemTouching);
+  }
+  problems.transversal_flagged = crossings.transversal_examples.size();
+  problems.touching_flagged = crossings.touching_examples.size();
   return problems;
 }
 
@@ -205,7 +230,7 @@ Rgb8 problem_color(uint8_t flags) {
     case kProblemInside: return kProblemInsideColor;
     case kProblemCrossing: return kProblemCrossingColor;
     case kProblemInside | kProblemCrossing: return kProblemBothColor;
-    default: return kProblemClean;
+    default: return flags & kProblemTouching ? kProblemTouchingColor : kProblemClean;
   }
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/preview.h"
+#include "check/check.h"
 #include "groom/mesh.h"
 #include "groom/strand_set.h"
 
@@ -49,44 +50,58 @@ StrandAttributes strand_attributes(const Pipeline &pipeline);
 
 /// Flags of StrandProblems::flags.
 inline constexpr uint8_t kProblemInside = 1;    // a point of the strand inside the skin
-inline constexpr uint8_t kProblemCrossing = 2;  // the strand crosses another one
+inline constexpr uint8_t kProblemCrossing = 2;  // the strand crosses another one transversally
+inline constexpr uint8_t kProblemTouching = 4;  // it touches another, near-parallel (not a violation)
 
-/// What the checker looks for, as `plume check` takes it.
+/// What the checker looks for, as `plume check` takes it (check::CheckOptions).
 struct ProblemOptions {
-  /// Crossing tolerance (scene units); 0 skips crossings (check::CheckOptions::crossing_tolerance).
+  /// Crossing tolerance (scene units); 0: check::kToleranceOfMedianSegment x the strands' median
+  /// segment length, as `plume check` derives it.
   float crossing_tolerance = 0.0f;
-  /// check::CheckOptions::skin_margin.
+  float transversal_degrees = check::kTransversalDegrees;
   float skin_margin = 0.0f;
-  /// The most crossing pairs flagged: beyond it, a sample of the pairs spread over the groom
-  /// (keeping the checker's memory and time bounded whatever the number of pairs).
+  /// The most crossing pairs of each kind flagged: beyond it, a sample of the pairs spread over
+  /// the groom (keeping the checker's memory and time bounded whatever the number of pairs).
   size_t max_pairs = 16384;
 };
 
 /// The checker's findings on one frame's strands, per strand.
 struct StrandProblems {
-  std::vector<uint8_t> flags;  // one per strand, kProblemInside | kProblemCrossing
+  std::vector<uint8_t> flags;  // one per strand, kProblemInside | kProblemCrossing | kProblemTouching
   size_t points_inside = 0;
   size_t strands_inside = 0;
-  bool crossings_checked = false;
-  size_t crossing_pairs = 0;  // every pair the checker counted, as `plume check` does
-  /// The pairs whose two strands are flagged: all of them, or max_pairs spread over the groom.
-  size_t pairs_flagged = 0;
+  float tolerance = 0.0f;  // the crossing tolerance used, scene units
+  bool crossings_before_effects = false;  // judged on the strands before the effects stack
+  size_t transversal_pairs = 0;  // every pair the checker counted, as `plume check` does
+  size_t touching_pairs = 0;
+  /// The pairs whose two strands are flagged: all of them, or max_pairs of each kind spread over
+  /// the groom.
+  size_t transversal_flagged = 0;
+  size_t touching_flagged = 0;
 };
 
-/// Runs the checker (check/check.h) on `strands` against `mesh` (the emitter at their pose) and
-/// flags every strand it reports. Throws InputError when the crossing tolerance is beyond the
-/// checker's budget (its message, unprefixed).
-StrandProblems find_problems(const StrandSet &strands, const Mesh &mesh, const ProblemOptions &options);
+/// Runs the checker (check/check.h) on `strands` against `mesh` (the emitter at their pose) as
+/// `plume check` does, and flags every strand it reports: points inside the skin on `strands`,
+/// crossings on `before_effects` when given (the same strands grown without the effects stack,
+/// which gathers and crosses strands on purpose: `plume check --groom` judges those), else on
+/// `strands`, at the tolerance derived from `strands`. Throws InputError when the tolerance is beyond
+/// the checker's budget or cannot be derived (its message, unprefixed).
+StrandProblems find_problems(const StrandSet &strands, const Mesh &mesh, const ProblemOptions &options,
+                             const StrandSet *before_effects = nullptr);
 
 using Rgb8 = std::array<uint8_t, 3>;
 
 /// The colours (sRGB, 8 bits) of the problems mode: a strand without a problem, with a point inside
-/// the skin, crossing another, both.
+/// the skin, crossing another (transversally), both, touching another (near-parallel, not a
+/// violation: a pale tone, drawn among the others).
 inline constexpr Rgb8 kProblemClean = {112, 104, 98};
 inline constexpr Rgb8 kProblemInsideColor = {236, 40, 40};
 inline constexpr Rgb8 kProblemCrossingColor = {255, 170, 0};
 inline constexpr Rgb8 kProblemBothColor = {230, 40, 230};
+inline constexpr Rgb8 kProblemTouchingColor = {190, 200, 140};
 Rgb8 problem_color(uint8_t flags);
+/// Whether a strand with `flags` breaks a promise (inside the skin, crossing): drawn over the others.
+inline bool problem_is_violation(uint8_t flags) { return (flags & (kProblemInside | kProblemCrossing)) != 0; }
 
 /// One colour per strand of `strands` (sRGB, 8 bits) in `mode`. `attributes` covers the strands
 /// (StrandAttributes of their roots, same order) for guide, clump and zone; `problems` covers them

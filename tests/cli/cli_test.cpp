@@ -52,27 +52,6 @@ TEST_CASE("every groom in grooms/ regrows a frame, and info reads what it wrote"
   }
 }
 
-TEST_CASE("every groom in grooms/ at its full strand count leaves no point inside the skin", "[cli]") {
-  // The promise the checker judges, on the real head (open at the neck and around the eyes) with
-  // every effect of grooms/effects: frame 1, where the emitter is at rest.
-  for (const std::string &groom : shipped_grooms()) {
-    INFO(groom);
-    ScratchDir scratch("full_groom_check");
-    const std::string strands = quoted(scratch / "hair.0001.usda");
-    std::string regrow = "regrow " + quoted(groom);
-    regrow += " --frames 1 --out " + quoted(scratch / "hair.####.usda");
-    const RunResult run = run_plume(regrow, scratch);
-    INFO(run.err);
-    REQUIRE(run.exit_code == 0);
-    std::string check_command = "check " + strands;
-    check_command += " --strict --groom " + quoted(groom);
-    const RunResult check = run_plume(check_command, scratch);
-    INFO(check.out);
-    CHECK(check.exit_code == 0);
-    CHECK(check.out.find("points inside the skin (margin 0): 0") != std::string::npos);
-  }
-}
-
 TEST_CASE("--help works on every command and --version prints the version", "[cli]") {
   ScratchDir scratch("help");
   for (const std::string command : {"", "regrow ", "simulate ", "preview ", "info ", "check "}) {

@@ -180,24 +180,26 @@ TEST_CASE("previews highlight what plume check reports, with its counts", "[cli]
   ScratchDir scratch("preview_problems");
   const std::string linear = write_sintel_groom(scratch, "linear", "interpolation: {method: linear, k: 4}\n");
   const std::string clean = write_sintel_groom(scratch, "clean", "");
-  // Frame 1 is the rest pose: the emitter OBJ is the skin the strands stand on.
-  RunResult preview = run_ok("preview " + quoted(linear) + " --frame 1 --size 200 --color problems --tolerance 0.01 --out " +
+  // Frame 1 is the rest pose: the emitter OBJ is the skin the strands stand on. Both derive the
+  // crossing tolerance from the strands (1e-3 of their median segment).
+  RunResult preview = run_ok("preview " + quoted(linear) + " --frame 1 --size 200 --color problems --out " +
                                  quoted(scratch / "linear.png"),
                              scratch);
   run_ok("regrow " + quoted(linear) + " --frames 1 --out " + quoted(scratch / "linear.####.hair"), scratch);
-  const RunResult check = run_ok("check " + quoted(scratch / "linear.0001.hair") + " --mesh " +
-                                     quoted(sintel_dir() + "/sintel.obj") + " --tolerance 0.01",
+  const RunResult check = run_ok("check " + quoted(scratch / "linear.0001.hair") + " --mesh " + quoted(sintel_dir() + "/sintel.obj"),
                                  scratch);
   std::smatch found;
   REQUIRE(std::regex_search(check.out, found, std::regex(R"(points inside the skin \(margin 0\): (\d+))")));
   const std::string inside = found[1];
-  REQUIRE(std::regex_search(check.out, found, std::regex(R"(crossing strand pairs \(tolerance 0.01\): (\d+))")));
-  const std::string pairs = found[1];
+  REQUIRE(std::regex_search(check.out, found,
+                            std::regex(R"(crossing strand pairs (\(tolerance [0-9.e+-]+\)): (\d+) transversal \(angle above 10 degrees\), (\d+) touching)")));
+  const std::string tolerance = found[1], transversal = found[2], touching = found[3];
   INFO(preview.out << check.out);
   CHECK(std::stoi(inside) > 0);
-  CHECK(std::stoi(pairs) > 0);
+  CHECK(std::stoi(transversal) > 0);
   CHECK(preview.out.find("frame 1: " + inside + " points inside the skin") != std::string::npos);
-  CHECK(preview.out.find(pairs + " crossing strand pairs (tolerance 0.01), " + pairs + " drawn") != std::string::npos);
+  CHECK(preview.out.find("crossing strand pairs " + tolerance + ": " + transversal + " transversal, " + touching +
+                         " touching; drawn: " + transversal + " transversal, " + touching + " touching") != std::string::npos);
   const int red = count_pixels(read_png(scratch / "linear.png"), inside_colored);
   CHECK(red > 100);
 
@@ -206,8 +208,24 @@ TEST_CASE("previews highlight what plume check reports, with its counts", "[cli]
   CHECK(count_pixels(read_png(scratch / "plain.png"), inside_colored) == 0);
   preview = run_ok("preview " + quoted(clean) + " --frame 1 --size 200 --color problems --out " + quoted(scratch / "clean.png"), scratch);
   CHECK(preview.out.find("frame 1: 0 points inside the skin") != std::string::npos);
-  CHECK(preview.out.find("crossings not checked") != std::string::npos);
   CHECK(count_pixels(read_png(scratch / "clean.png"), inside_colored) == 0);
+}
+
+TEST_CASE("a groom with effects has its crossings judged before them, as plume check --groom does", "[cli]") {
+  ScratchDir scratch("preview_effects");
+  const std::string groom = write_sintel_groom(
+      scratch, "clumps", "effects:\n  - {type: clump, seed: 1, centers: poisson, radius: 1.2, amount: 0.8}\n");
+  const RunResult preview = run_ok("preview " + quoted(groom) + " --frame 1 --size 64 --color problems --out " +
+                                       quoted(scratch / "p.png"),
+                                   scratch);
+  run_ok("regrow " + quoted(groom) + " --frames 1 --out " + quoted(scratch / "h.####.usda"), scratch);
+  const RunResult check = run_ok("check " + quoted(scratch / "h.0001.usda") + " --groom " + quoted(groom), scratch);
+  std::smatch found;
+  REQUIRE(std::regex_search(check.out, found,
+                            std::regex(R"(crossing strand pairs before effects (\(tolerance [0-9.e+-]+\)): (\d+) transversal \(angle above 10 degrees\), (\d+) touching)")));
+  INFO(preview.out << check.out);
+  CHECK(preview.out.find("crossing strand pairs before effects " + std::string(found[1]) + ": " + std::string(found[2]) +
+                         " transversal, " + std::string(found[3]) + " touching") != std::string::npos);
 }
 
 TEST_CASE("preview and view refuse bad camera, colour and page options with exit 2 and no output", "[cli]") {

@@ -86,13 +86,15 @@ check(/three\.js authors/i.test(html) && /Permission is hereby granted/.test(htm
 const sintelMesh = join(dirname(resolve(args.groom)), 'sintel.obj');
 const checked = plume('check', join(work, 'hair.0001.hair'), '--mesh', sintelMesh, '--tolerance', '0.01');
 const inside = Number(checked.match(/points inside the skin \(margin 0\): (\d+)/)[1]);
-const pairs = Number(checked.match(/crossing strand pairs \(tolerance 0.01\): (\d+)/)[1]);
+const [, transversal, touching] = checked.match(/crossing strand pairs \(tolerance 0.01\): (\d+) transversal \(angle above 10 degrees\), (\d+) touching/).map(Number);
 const frame1 = manifest.check.frames[0];
-check(frame1.points_inside === inside && frame1.crossing_pairs === pairs && pairs > 0,
-  `the page's frame 1 check is plume check's: ${frame1.points_inside} points inside (${inside}), ${frame1.crossing_pairs} crossing pairs (${pairs})`);
+check(frame1.points_inside === inside && frame1.transversal_pairs === transversal && frame1.touching_pairs === touching && transversal > 0,
+  `the page's frame 1 check is plume check's: ${frame1.points_inside} points inside (${inside}), ` +
+  `${frame1.transversal_pairs} transversal (${transversal}) and ${frame1.touching_pairs} touching (${touching}) crossing pairs`);
 const flags = arrays[frame1.flags];
-check(flags.filter((f) => f & 2).length === frame1.strands_flagged && frame1.pairs_flagged === pairs,
-  `every strand of the ${pairs} crossing pairs is flagged (${frame1.strands_flagged} strands)`);
+check(flags.filter((f) => f & 2).length === frame1.strands_flagged && frame1.transversal_flagged === transversal &&
+  frame1.touching_flagged === touching && flags.some((f) => f === 4),
+  `every strand of the ${transversal} transversal pairs is flagged (${frame1.strands_flagged} strands), and the touching ones apart`);
 
 /// Colour of strand s in colour mode `mode`, as "r,g,b".
 const colorOf = (page, mode, s) => {
@@ -195,8 +197,8 @@ const files = readPage(filesPage);
   check(files.manifest.strands.total === hair1.hairs && same,
     `a page of .hair files holds their ${files.manifest.strands.total} strands, frames 1 and 8 to the bit`);
   const f1 = files.manifest.check.frames[0];
-  check(f1.points_inside === inside && f1.crossing_pairs === pairs,
-    `its frame 1 check is plume check's (${f1.points_inside} inside, ${f1.crossing_pairs} crossing pairs)`);
+  check(f1.points_inside === inside && f1.transversal_pairs === transversal && f1.touching_pairs === touching,
+    `its frame 1 check is plume check's (${f1.points_inside} inside, ${f1.transversal_pairs} transversal and ${f1.touching_pairs} touching pairs)`);
   check(files.manifest.colors.map((c) => c.mode).join() === 'plain,problems' && files.manifest.guides.count === 0,
     'strand files without a groom are coloured plain or by problems, with no guides');
 }
@@ -349,13 +351,13 @@ try {
   const orange = pixels(byProblems, (r, g, b) => r > 200 && g > 100 && g < 200 && b < 80, box);
   check(flagged > 0 && orange > 200, `the ${flagged} strands the checker flags at frame 1 are drawn in the crossing colour (${orange} pixels)`);
   const summary = await browser.evaluate("document.getElementById('check-summary').textContent");
-  check(summary.includes(`${manifest.check.frames[0].crossing_pairs.toLocaleString('en-US')} crossing pairs`),
-    `the check summary states the checker's count ("${summary}")`);
+  check(summary.includes(`${transversal.toLocaleString('en-US')} transversal, ${touching.toLocaleString('en-US')} touching`),
+    `the check summary states the checker's counts ("${summary}")`);
   await setMode('plain');
 
   // A strand the checker flags, found by its id as plume check prints it: drawn in white, and the
   // panel says what the checker found on it. An id the page does not hold is said so.
-  const flaggedIndex = arrays[frame1.flags].findIndex((f) => f !== 0);
+  const flaggedIndex = arrays[frame1.flags].findIndex((f) => (f & 2) !== 0);
   const flaggedId = arrays[manifest.strands.ids][flaggedIndex];
   // (The skin is hidden meanwhile: the strand may lie behind the head.)
   const white = (image) => pixels(image, (r, g, b) => r > 235 && g > 235 && b > 235, { left: panel.right + 1, top: 0, right: image.width, bottom: image.height });

@@ -55,6 +55,7 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
     swatch(doc, check.palette.inside, 'inside the skin'),
     swatch(doc, check.palette.crossing, 'crossing'),
     swatch(doc, check.palette.both, 'both'),
+    swatch(doc, check.palette.touching, 'touching (near-parallel)'),
     swatch(doc, check.palette.clean, 'no problem'),
   );
   panel.appendChild(legend);
@@ -105,17 +106,17 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
     const f = check.frames[index];
     let text = `Frame ${frames[index]}: ${number(f.points_inside)} points inside the skin (margin ${check.margin})` +
       ` in ${number(f.strands_inside)} strands; `;
-    text += check.crossings_checked
-      ? `${number(f.crossing_pairs)} crossing pairs (tolerance ${check.tolerance})` +
-        (f.pairs_flagged < f.crossing_pairs ? `, ${number(f.pairs_flagged)} flagged (a sample)` : '')
-      : 'crossings not checked (plume view --tolerance T)';
+    text += `crossing pairs${check.before_effects ? ' before effects' : ''} (tolerance ${Number(f.tolerance.toPrecision(3))}): ` +
+      `${number(f.transversal_pairs)} transversal, ${number(f.touching_pairs)} touching`;
+    if (f.transversal_flagged < f.transversal_pairs || f.touching_flagged < f.touching_pairs)
+      text += ` (a sample flagged: ${number(f.transversal_flagged)} and ${number(f.touching_flagged)})`;
     if (strands.sample && f.strands_flagged > 0) text += `; ${number(f.flagged_shown)} of the ${number(f.strands_flagged)} flagged strands shown`;
     summary.textContent = text;
-    summary.classList.toggle('bad', f.points_inside > 0 || f.crossing_pairs > 0);
+    summary.classList.toggle('bad', f.points_inside > 0 || f.transversal_pairs > 0);
     if (scene.selectedStrand >= 0) {
       const flags = scene.flags()[scene.selectedStrand];
-      const problem = [flags & 1 ? 'a point inside the skin' : '', flags & 2 ? 'crossing another strand' : '']
-        .filter(Boolean).join(' and ') || 'no problem found';
+      const problem = [flags & 1 ? 'a point inside the skin' : '', flags & 2 ? 'crossing another strand' : '',
+        flags & 4 ? 'touching another strand (near-parallel)' : ''].filter(Boolean).join(' and ') || 'no problem found';
       strandInfo.textContent = `Strand ${ids[scene.selectedStrand]} (white): ${problem} at frame ${frames[index]}`;
     }
   };

@@ -261,13 +261,16 @@ export class PlumeScene {
     let perStrand;
     let flagged = [];
     if (this.mode === 'problems') {
+      // Flags: 1 inside the skin, 2 crossing (transversal), 4 touching (near-parallel). Violations
+      // (inside, crossing) are drawn over the other strands; touching is not one.
       const palette = this.manifest.check.palette;
       const byFlags = [palette.clean, palette.inside, palette.crossing, palette.both];
       const flags = this.flags();
       perStrand = new Uint8Array(3 * this.strandCount);
       for (let s = 0; s < this.strandCount; ++s) {
-        perStrand.set(byFlags[flags[s] & 3], 3 * s);
-        if (flags[s]) flagged.push(s);
+        const violation = flags[s] & 3;
+        perStrand.set(violation || !(flags[s] & 4) ? byFlags[violation] : palette.touching, 3 * s);
+        if (violation) flagged.push(s);
       }
     } else {
       perStrand = this.arrays[this.modes.get(this.mode).colors];

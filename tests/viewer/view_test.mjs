@@ -216,6 +216,44 @@ const budgetStrands = Math.floor((BUDGET - SAMPLED_FRAMES * (manifest.skin.verte
 check(s.sample && s.total === STRANDS && s.shown === budgetStrands && budgetStrands > 0 && budgetStrands < STRANDS,
   `a page over its budget shows a sample: ${s.shown} of ${s.total} strands, the ${budgetStrands} its ${BUDGET} points leave`);
 
+// ---- Feathers' vanes, in the page format's slot for them: the page above with a vane mesh added
+// by hand (a fan of quads above the head, moving with the frames).
+const withVanes = join(work, 'vanes.html');
+{
+  const data = Buffer.from(html.match(/id="plume-data">([^<]*)</)[1], 'base64');
+  const scene = JSON.parse(html.match(/id="plume-scene">([^<]*)</)[1]);
+  const chunks = [data];
+  let size = data.length;
+  const add = (typed, type) => {
+    const pad = (8 - (size % 8)) % 8;
+    chunks.push(Buffer.alloc(pad));
+    size += pad;
+    scene.buffers.push({ type, offset: size, length: typed.length });
+    chunks.push(Buffer.from(typed.buffer, typed.byteOffset, typed.byteLength));
+    size += typed.byteLength;
+    return scene.buffers.length - 1;
+  };
+  const vaneCount = 12, triangles = [];
+  for (let v = 0; v < vaneCount; ++v) triangles.push(4 * v, 4 * v + 1, 4 * v + 2, 4 * v, 4 * v + 2, 4 * v + 3);
+  const box = scene.bounds, top = box.max[1] + 1, cx = (box.min[0] + box.max[0]) / 2, cz = (box.min[2] + box.max[2]) / 2;
+  const vanePositions = scene.frames.map((frame, f) => {
+    const p = [];
+    for (let v = 0; v < vaneCount; ++v) {
+      const a = (2 * Math.PI * v) / vaneCount + 0.05 * f, b = a + 0.3;
+      p.push(cx, top, cz, cx + 8 * Math.cos(a), top + 2, cz + 8 * Math.sin(a),
+        cx + 8 * Math.cos(b), top + 2, cz + 8 * Math.sin(b), cx + 4 * Math.cos(b), top + 1, cz + 4 * Math.sin(b));
+    }
+    return add(new Float32Array(p), 'f32');
+  });
+  scene.vanes = { triangles: add(new Uint32Array(triangles), 'u32'), positions: vanePositions };
+  const buffers = JSON.stringify(scene).replace(/</g, '\\u003c');
+  writeFileSync(withVanes, html
+    .replace(/(id="plume-scene">)[^<]*/, () => '$SCENE$')
+    .replace('$SCENE$', 'id="plume-scene">' + buffers)
+    .replace(/(id="plume-data">)[^<]*/, () => '$DATA$')
+    .replace('$DATA$', 'id="plume-data">' + Buffer.concat(chunks).toString('base64')));
+}
+
 // ---- A damaged page: the data cut short.
 const damaged = join(work, 'damaged.html');
 writeFileSync(damaged, html.replace(/(id="plume-data">)([^<]{1000})[^<]*/, '$1$2'));
@@ -417,6 +455,16 @@ try {
   const filesCount = await browser.evaluate("Number(document.getElementById('strand-count').dataset.total)");
   check(filesCount === STRANDS && problems.length === 0,
     `a page of .hair files reports their ${filesCount} strands, with no error${problems.length ? ': ' + problems.join('; ') : ''}`);
+
+  // Vanes: drawn, toggled by their box.
+  await open(withVanes);
+  const vanesBox = await browser.evaluate("!!document.getElementById('show-vanes')");
+  const withThem = await shot();
+  await click(...Object.values(await rect('label[for="show-vanes"]')).slice(0, 2).map((v) => v + 3));
+  const withoutThem = await shot();
+  const vaneDiff = differing(withThem, withoutThem);
+  check(vanesBox && vaneDiff.count > 1000 && problems.length === 0,
+    `a page with vanes draws them (${vaneDiff.count} pixels change when they are hidden)${problems.length ? ': ' + problems.join('; ') : ''}`);
 
   // The sampled page says what it shows.
   await open(sampled);

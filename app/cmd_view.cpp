@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -30,8 +31,8 @@ namespace {
 /// The most points (strand, skin and guide points over all frames) a page holds by default: 48 MB
 /// of float32 positions, a page of about 65 MB. 100,000 strands of 32 points fit in one frame.
 constexpr int64_t kDefaultViewPoints = 4'000'000;
-/// Beyond this a page (over a gigabyte of text) is more than a browser opens.
-constexpr int64_t kMaxViewPoints = 64'000'000;
+/// Beyond this the positions alone exceed what a browser reads (kMaxPageDataBytes).
+constexpr int64_t kMaxViewPoints = 32'000'000;
 
 struct ViewArgs {
   std::string input;
@@ -401,6 +402,10 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
   json.end_array().end_object();
   json.end_object();
 
+  if (blob.byte_count() > kMaxPageDataBytes)
+    throw InputError("--max-points " + std::to_string(args.max_points) + ": the page's data come to " +
+                     std::to_string(blob.byte_count() >> 20) + " MB, more than a browser reads in one piece (" +
+                     std::to_string(kMaxPageDataBytes >> 20) + " MB): give a smaller --max-points or fewer frames");
   write_view_page(args.out, input.title, json.text(), blob);
 }
 
@@ -550,7 +555,7 @@ void add_view_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--guides", args->guides, "Strand files: guides to show with them (a file, or a pattern)");
   cmd->add_option("--max-points", args->max_points,
                   "The most points the page holds over all its frames (default 4,000,000: about 65 MB); beyond it "
-                  "the page shows a stated sample of the strands, with every strand the checker flags")
+                  "the page shows a stated sample of the strands, those with a violation first")
       ->check(CLI::Range(int64_t(1), kMaxViewPoints));
   cmd->add_option("--tolerance", args->tolerance,
                   "Crossing tolerance for the problems colours, as plume check's (scene units; default: 1e-3 of the "

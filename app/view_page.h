@@ -64,6 +64,10 @@ class ViewBlob {
   std::vector<uint8_t> bytes_;
 };
 
+/// The most data bytes a page holds: a browser reads the base64 block as one string, and Chromium's
+/// longest string is 2^29 - 24 characters (512 MB of text for 384 MB of data).
+inline constexpr size_t kMaxPageDataBytes = size_t(380) << 20;
+
 /// The viewer's script as this build embedded it, with the version and licence of the three.js it
 /// bundles. `script` is empty when the build found no viewer/node_modules (npm ci in viewer/).
 struct ViewerAssets {

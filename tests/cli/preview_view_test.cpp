@@ -253,6 +253,7 @@ TEST_CASE("preview and view refuse bad camera, colour and page options with exit
   require_refused(view + " --max-points 1000 --out " + quoted(o + "/v.html"), "--max-points 1000", scratch, out);
   require_refused(view + " --max-points 0 --out " + quoted(o + "/v.html"), "--max-points", scratch, out);
   require_refused(view + " --max-points 99999999999 --out " + quoted(o + "/v.html"), "--max-points", scratch, out);
+  require_refused(view + " --max-points 32000001 --out " + quoted(o + "/v.html"), "--max-points", scratch, out);
   require_refused(view + " --tolerance -1 --out " + quoted(o + "/v.html"), "--tolerance", scratch, out);
   require_refused("view " + quoted(groom) + " --strands 2000 --frames 1 --tolerance 50 --out " + quoted(o + "/v.html"),
                   "--tolerance 50", scratch, out);

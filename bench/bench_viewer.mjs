@@ -78,6 +78,38 @@ try {
   rmSync(work, { recursive: true, force: true });
 }
 
+// Side by side: Blender 3.4 from Debian (built without USD and Alembic) reads the same frame of
+// Sintel's 30,000 strands as OBJ line segments, in the background (no drawing): medians of the
+// same number of runs. The page's "scene read" is the comparable figure.
+let blender = null;
+try {
+  execFileSync('blender', ['--version'], { stdio: 'ignore' });
+  const dir = mkdtempSync(join(tmpdir(), 'plume-bench-blender-'));
+  execFileSync(args.plume, ['regrow', sintel, '--frames', '1', '--out', join(dir, 'hair.####.obj')], { stdio: 'ignore' });
+  const script = join(dir, 'import.py');
+  writeFileSync(script, [
+    'import bpy, sys, time',
+    "path = sys.argv[sys.argv.index('--') + 1]",
+    'bpy.ops.wm.read_factory_settings(use_empty=True)',
+    't = time.perf_counter()',
+    'bpy.ops.wm.obj_import(filepath=path)',
+    "print('IMPORT', time.perf_counter() - t, len(bpy.data.objects[0].data.edges))",
+  ].join('\n'));
+  const times = [];
+  let edges = 0;
+  for (let k = 0; k < Number(args.loads); ++k) {
+    const out = execFileSync('blender', ['-b', '--factory-startup', '--python', script, '--', join(dir, 'hair.0001.obj')],
+      { encoding: 'utf8', stdio: ['ignore', 'pipe', 'ignore'] });
+    const [, seconds, count] = out.match(/IMPORT ([0-9.e-]+) (\d+)/);
+    times.push(Number(seconds));
+    edges = Number(count);
+  }
+  rmSync(dir, { recursive: true, force: true });
+  blender = { seconds: median(times), runs: times.map((t) => t.toFixed(2)).join(' '), edges };
+} catch (error) {
+  blender = null;
+}
+
 console.log(`bench_viewer: ${cpus().length} cores, headless Chromium with SwiftShader (software WebGL), ${args.loads} loads each`);
 console.log('| page | frames | strands shown | size | plume view | scene read (median) | first frame drawn (median) | loads to first frame | next frame shown |');
 console.log('|---|---|---|---|---|---|---|---|---|');
@@ -85,3 +117,12 @@ for (const r of rows)
   console.log(`| ${r.name} | ${r.frames} | ${r.shown.toLocaleString('en-US')} of ${r.total.toLocaleString('en-US')} | ` +
     `${r.mb.toFixed(1)} MB | ${r.writeSeconds.toFixed(1)} s | ${(r.readMs / 1000).toFixed(2)} s | ${(r.loadMs / 1000).toFixed(2)} s | ${r.loadsMs} ms | ` +
     `${Number.isNaN(r.frameMs) ? '-' : Math.round(r.frameMs) + ' ms'} |`);
+if (blender) {
+  const page = rows.find((r) => r.name.startsWith('Sintel, one frame, 30,000'));
+  console.log(`\nBlender 3.4 (Debian) imports the same frame (30,000 strands as ${blender.edges.toLocaleString('en-US')} OBJ line ` +
+    `segments, no drawing): ${blender.seconds.toFixed(2)} s (runs ${blender.runs} s); the page reads its scene in ` +
+    `${(page.readMs / 1000).toFixed(2)} s (${(page.readMs / 1000 / blender.seconds).toFixed(2)}x Blender's time) and draws it in ` +
+    `${(page.loadMs / 1000).toFixed(2)} s with software WebGL`);
+} else {
+  console.log('\nBlender: not installed (apt-get install blender) or its import failed: no side-by-side figure');
+}

@@ -65,13 +65,20 @@ function placeCamera(scene, controls) {
   const size = box.getSize(new THREE.Vector3()).length();
   scene.camera.up.copy(up);
   scene.camera.position.copy(center).addScaledVector(toEye, distance);
-  scene.camera.near = Math.max(distance - 4 * size, distance * 1e-3);
-  scene.camera.far = distance + 8 * size;
-  scene.camera.updateProjectionMatrix();
   controls.target.copy(center);
   controls.minDistance = 0.02 * size;
   controls.maxDistance = 20 * size;
   controls.update();
+  fitClipping(scene.camera, center, size);
+}
+
+// Near and far planes around the scene's bounding sphere (radius: the box's diagonal, which leaves
+// room for strands that swing out of the rest bounds), wherever the camera has gone.
+function fitClipping(camera, center, size) {
+  const distance = camera.position.distanceTo(center);
+  camera.near = Math.max(distance - size, distance * 1e-3, size * 1e-4);
+  camera.far = distance + size;
+  camera.updateProjectionMatrix();
 }
 
 // True when WebGL runs in software (the renderer's name, where the browser tells it).
@@ -126,7 +133,12 @@ async function start() {
     requestDraw();
   };
   window.addEventListener('resize', resize);
-  controls.addEventListener('change', requestDraw);
+  const box = new THREE.Box3(new THREE.Vector3(...manifest.bounds.min), new THREE.Vector3(...manifest.bounds.max));
+  const center = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
+  controls.addEventListener('change', () => {
+    fitClipping(scene.camera, center, size);
+    requestDraw();
+  });
 
   const panel = buildPanel(document, manifest, scene, requestDraw);
 

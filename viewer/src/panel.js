@@ -39,8 +39,8 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
       (strands.flagged_total === 0
         ? 'spread over the groom'
         : strands.flagged_shown === strands.flagged_total
-          ? `with all ${number(strands.flagged_total)} the checker flags`
-          : `with ${number(strands.flagged_shown)} of the ${number(strands.flagged_total)} the checker flags`)
+          ? `including all ${number(strands.flagged_total)} with a violation (plume check)`
+          : `including ${number(strands.flagged_shown)} of the ${number(strands.flagged_total)} with a violation (plume check)`)
     : `${number(strands.total)} strands (all shown)`;
   panel.appendChild(count);
 
@@ -110,7 +110,7 @@ export function buildPanel(doc, manifest, scene, requestDraw) {
       `${number(f.transversal_pairs)} transversal, ${number(f.touching_pairs)} touching`;
     if (f.transversal_flagged < f.transversal_pairs || f.touching_flagged < f.touching_pairs)
       text += ` (a sample flagged: ${number(f.transversal_flagged)} and ${number(f.touching_flagged)})`;
-    if (strands.sample && f.strands_flagged > 0) text += `; ${number(f.flagged_shown)} of the ${number(f.strands_flagged)} flagged strands shown`;
+    if (strands.sample && f.strands_flagged > 0) text += `; ${number(f.flagged_shown)} of the ${number(f.strands_flagged)} strands with a violation shown`;
     summary.textContent = text;
     summary.classList.toggle('bad', f.points_inside > 0 || f.transversal_pairs > 0);
     if (scene.selectedStrand >= 0) {

@@ -6,6 +6,7 @@
 //
 // node bench/bench_viewer.mjs --plume build/app/plume [--chromium /usr/bin/chromium] [--loads 5]
 //   [--screenshot docs/viewer.png]   the demo's page as first drawn (the README's picture)
+//   [--cases N]                      the first N pages only (the demo's is the first)
 import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { cpus, tmpdir } from 'node:os';
@@ -13,7 +14,7 @@ import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { Browser } from '../tests/viewer/browser.mjs';
 
-const args = { chromium: '/usr/bin/chromium', loads: '5' };
+const args = { chromium: '/usr/bin/chromium', loads: '5', cases: '4' };
 for (let i = 2; i + 1 < process.argv.length; i += 2) args[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
 if (!args.plume) throw new Error('usage: node bench/bench_viewer.mjs --plume build/app/plume [--chromium PATH] [--loads N]');
 const root = resolve(dirname(fileURLToPath(import.meta.url)), '..');
@@ -39,7 +40,7 @@ const browser = await Browser.launch(args.chromium, { width: 1280, height: 800 }
 await browser.page('Page.enable');
 const rows = [];
 try {
-  for (const c of cases) {
+  for (const c of cases.slice(0, Number(args.cases))) {
     const page = join(work, 'view.html');
     let started = process.hrtime.bigint();
     execFileSync(args.plume, ['view', ...c.argv, '--out', page], { stdio: ['ignore', 'ignore', 'inherit'] });
@@ -82,7 +83,9 @@ try {
 // Sintel's 30,000 strands as OBJ line segments, in the background (no drawing): medians of the
 // same number of runs. The page's "scene read" is the comparable figure.
 let blender = null;
+const comparable = rows.find((r) => r.name.startsWith('Sintel, one frame, 30,000'));
 try {
+  if (!comparable) throw new Error('the one-frame page was not measured');
   execFileSync('blender', ['--version'], { stdio: 'ignore' });
   const dir = mkdtempSync(join(tmpdir(), 'plume-bench-blender-'));
   execFileSync(args.plume, ['regrow', sintel, '--frames', '1', '--out', join(dir, 'hair.####.obj')], { stdio: 'ignore' });
@@ -118,11 +121,11 @@ for (const r of rows)
     `${r.mb.toFixed(1)} MB | ${r.writeSeconds.toFixed(1)} s | ${(r.readMs / 1000).toFixed(2)} s | ${(r.loadMs / 1000).toFixed(2)} s | ${r.loadsMs} ms | ` +
     `${Number.isNaN(r.frameMs) ? '-' : Math.round(r.frameMs) + ' ms'} |`);
 if (blender) {
-  const page = rows.find((r) => r.name.startsWith('Sintel, one frame, 30,000'));
+  const page = comparable;
   console.log(`\nBlender 3.4 (Debian) imports the same frame (30,000 strands as ${blender.edges.toLocaleString('en-US')} OBJ line ` +
     `segments, no drawing): ${blender.seconds.toFixed(2)} s (runs ${blender.runs} s); the page reads its scene in ` +
     `${(page.readMs / 1000).toFixed(2)} s (${(page.readMs / 1000 / blender.seconds).toFixed(2)}x Blender's time) and draws it in ` +
     `${(page.loadMs / 1000).toFixed(2)} s with software WebGL`);
-} else {
+} else if (comparable) {
   console.log('\nBlender: not installed (apt-get install blender) or its import failed: no side-by-side figure');
 }

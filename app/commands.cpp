@@ -267,15 +267,12 @@ void check_output_pattern(const std::string &pattern, const FrameRange &range, c
   }
 }
 
-PreviewCamera groom_camera(const Pipeline &pipeline) {
-  return fit_camera(scene_bounds(pipeline.rest_mesh(), pipeline.guides().strands));
+Eigen::AlignedBox3f groom_bounds(const Pipeline &pipeline) {
+  return scene_bounds(pipeline.rest_mesh(), pipeline.guides().strands);
 }
 
-std::vector<bool> groom_scalp(const Pipeline &pipeline) {
-  std::vector<int32_t> triangles;
-  triangles.reserve(pipeline.roots().size());
-  for (const SurfacePoint &p : pipeline.roots().points) triangles.push_back(p.triangle);
-  return scalp_mask(pipeline.rest_mesh(), triangles);
+PreviewCamera groom_camera(const Pipeline &pipeline, const CameraAngle &angle) {
+  return fit_camera(groom_bounds(pipeline), angle);
 }
 
 }  // namespace plume

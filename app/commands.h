@@ -20,6 +20,7 @@ void add_simulate_command(CLI::App &app, int &r_exit_code);
 void add_preview_command(CLI::App &app, int &r_exit_code);
 void add_info_command(CLI::App &app, int &r_exit_code);
 void add_check_command(CLI::App &app, int &r_exit_code);
+void add_view_command(CLI::App &app, int &r_exit_code);
 
 /// Exit code of `plume check --strict` when the strands break a promise.
 inline constexpr int kExitViolations = 3;
@@ -108,10 +109,10 @@ class PreviewSchedule {
 int preview_size_of(int option, const GroomDesc &groom);
 /// Adds a preview size option `name` in [16, max_preview_size] to `cmd`.
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description);
-/// The preview camera of a groom: fitted to the rest emitter and the rest guides, so that every
+/// What the preview camera of a groom frames: the rest emitter and the rest guides, so that every
 /// frame of a sequence is seen from the same place.
-PreviewCamera groom_camera(const Pipeline &pipeline);
-/// The triangles holding the groom's roots, drawn as scalp in previews.
-std::vector<bool> groom_scalp(const Pipeline &pipeline);
+Eigen::AlignedBox3f groom_bounds(const Pipeline &pipeline);
+/// The preview camera of a groom, seen from `angle`, fitted to groom_bounds().
+PreviewCamera groom_camera(const Pipeline &pipeline, const CameraAngle &angle = {});
 
 }  // namespace plume

@@ -93,6 +93,8 @@ class Pipeline {
   /// The partings (empty when the groom has none) and the binding of the roots.
   const partings::PartingField &partings() const { return *partings_; }
   const interp::Binding &binding() const { return *binding_; }
+  /// The effects stack (its clumps, for pictures that show them).
+  const effects::EffectStack &effects() const { return *effects_; }
 
   /// The emitter at `frame`: an OBJ of the sequence, the rest mesh rigidly moved, or the rest mesh.
   Mesh posed_mesh(int frame) const;

@@ -81,11 +81,13 @@ struct Lights {
 };
 
 // `screen`: proj.project() of every mesh vertex. The whole mesh is skin, the scalp included.
+// `triangle_colors`: empty, or an albedo per triangle in place of the skin colour.
 void draw_mesh(const Mesh &mesh, const std::vector<Eigen::Vector3f> &screen, const Projector &proj,
-               const Lights &lights, const PreviewStyle &style, Raster &r_raster) {
-  const Eigen::Vector3f &albedo = style.skin_color;
+               const Lights &lights, const PreviewStyle &style, const std::vector<Eigen::Vector3f> &triangle_colors,
+               Raster &r_raster) {
   const int size = r_raster.size;
   for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+    const Eigen::Vector3f &albedo = f < triangle_colors.size() ? triangle_colors[f] : style.skin_color;
     const Eigen::Vector3i &tri = mesh.triangles[f];
     const Eigen::Vector3f &a = screen[tri[0]], &b = screen[tri[1]], &c = screen[tri[2]];
     if (a.z() <= proj.near || b.z() <= proj.near || c.z() <= proj.near) continue;
@@ -390,7 +392,7 @@ Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const Strand
   for (int band_first = 0; band_first < style.size; band_first += band_rows) {
     const int rows = std::min(band_rows, style.size - band_first);
     Raster raster(raster_size, band_first * ss, rows * ss, style);
-    draw_mesh(mesh, screen, proj, lights, style, raster);
+    draw_mesh(mesh, screen, proj, lights, style, paint.triangle_colors, raster);
     raster.begin_overlays();
     draw_strands(strands, proj, lights, hair, raster);
     if (hair.on_top) draw_strands(strands, proj, lights, hair_on_top, raster);

@@ -79,6 +79,9 @@ struct StrandPaint {
   /// Empty, or one flag per strand: flagged strands are drawn over the others, hidden only by the
   /// skin (as the guides are), so that a few strands the checker reports are seen in a full head.
   std::vector<uint8_t> on_top;
+  /// Empty, or one linear RGB albedo per triangle of the mesh, replacing the skin colour (a
+  /// feather's vanes drawn among the skin's triangles).
+  std::vector<Eigen::Vector3f> triangle_colors;
 };
 
 /// 8-bit RGB, rows top to bottom: width * height * 3 bytes.

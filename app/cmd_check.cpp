@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "app/commands.h"
+#include "app/feather_commands.h"
 #include "app/pipeline.h"
 #include "check/check.h"
 #include "groom/error.h"
@@ -397,6 +398,8 @@ int run_check(const CheckArgs &args) {
   if (!args.mesh.empty() && io::detail::extension_of(args.mesh) != ".obj")
     throw InputError("--mesh: expected an .obj mesh, got \"" + args.mesh + "\"");
   set_thread_count(args.threads);
+  if (is_feather_check(args.strands, args.groom))
+    return run_feather_check(args.strands, args.mesh, args.groom, args.frame, args.margin, args.strict, args.json);
 
   check::CheckOptions options;
   options.crossing_tolerance = args.tolerance;

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/feather_commands.h"
 #include "app/pipeline.h"
 #include "app/strand_colors.h"
 #include "groom/error.h"
@@ -55,6 +56,9 @@ void run_preview(const PreviewArgs &args) {
   const FrameRange single{args.frame, args.frame, 1};
   check_output_pattern(args.out, single, "--out", {".png"});
   check_output_locations(args.out, single, "--out", RunInputs(groom, args.guides_cache));
+  if (groom.feathers.enabled)
+    return run_feather_preview(groom, args.frame, args.out, args.size, args.guides, args.threads, args.strands,
+                               args.guides_cache);
   set_thread_count(args.threads);
   PipelineOptions options;
   options.strand_count = args.strands;
@@ -62,6 +66,7 @@ void run_preview(const PreviewArgs &args) {
   options.simulation_start = std::min(groom_first_frame(groom), args.frame);
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(single);
+  remove_stale_temp_files(args.out, single);  // what a run killed by SIGKILL left of this picture
   const FrameResult result = pipeline.produce(args.frame);
 
   PreviewStyle style;

@@ -34,6 +34,11 @@ inline constexpr int kMaxThreads = 1024;
 
 // Shared by the commands.
 
+/// Throws InputError naming the variable when OMP_NUM_THREADS is set to anything but a thread count
+/// as OpenMP reads it (a whole number >= 1, or a list of them such as "4,2"): libgomp only warns
+/// and goes on with its own count. Every command checks it before it runs (main.cpp), with or
+/// without --threads.
+void check_omp_num_threads();
 /// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it). Otherwise OpenMP's
 /// own count stands (OMP_NUM_THREADS, or the hardware threads), at most kMaxThreads: an
 /// OMP_NUM_THREADS above it is an InputError naming the variable, more hardware threads are capped.
@@ -90,6 +95,8 @@ class PreviewSchedule {
   std::string path_at(int64_t i, int frame) const;
   /// check_output_locations() for the previews due in `range` (the range given to the constructor).
   void check_locations(const FrameRange &range, const RunInputs &inputs) const;
+  /// The preview pattern, empty when there are no previews.
+  const std::string &pattern() const { return pattern_; }
 
  private:
   std::string what_;

@@ -435,6 +435,11 @@ TEST_CASE("every groom in grooms/ on the frames it renders: checked at its pose,
       const std::string args = quoted(scratch / name) + " --groom " + quoted(groom) + " --frame " + std::to_string(frame);
       const JsonCheck json = check_json(args + " --strict", scratch);
       CHECK(json["inside_skin.points"] == 0);
+      if (info.out.find("\nfeathers: ") != std::string::npos) {
+        // A feather groom's curves: the skin is judged (feather against feather is another check).
+        CHECK(json.exit_code == 0);
+        continue;
+      }
       CHECK(json["strands_off_groom_roots"] == 0);
       CHECK(json["zones.cross_zone_influences"] == 0);
       CHECK(json.exit_code == (json.text("clean") == "true" ? 0 : 3));

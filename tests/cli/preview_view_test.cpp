@@ -8,6 +8,8 @@
 #include <regex>
 
 #include "cli/cli_fixtures.h"
+#include "io/obj_mesh.h"
+#include "io/strand_file.h"
 
 using namespace plume::cli_test;
 
@@ -312,3 +314,46 @@ TEST_CASE("a view page is written whole, in one file, and names the groom", "[cl
   CHECK(page.size() > 100000);  // the viewer's script and three.js are inside
   CHECK(page.find("</html>\n") == page.size() - 8);
 }
+
+TEST_CASE("a groom modelled at another scale previews and is checked the same: no absolute unit", "[cli]") {
+  // Sintel's head and guides scaled by 100 and by 0.01 (every length of the groom file too): the
+  // camera, the lights, the strand brush and the checker's tolerance follow the scale, so the
+  // picture is the same up to rounding and the checker finds the same problems.
+  ScratchDir scratch("preview_scale");
+  const plume::Mesh head = plume::io::read_obj_mesh(sintel_dir() + "/sintel.obj");
+  const plume::StrandSet guides = plume::io::read_strands(sintel_dir() + "/sintel_guides.hair");
+  const auto write_groom = [&](const std::string &name, float scale) {
+    std::ofstream obj(scratch / (name + ".obj"));
+    obj.precision(9);
+    for (const Eigen::Vector3f &p : head.positions) obj << "v " << scale * p.x() << ' ' << scale * p.y() << ' ' << scale * p.z() << '\n';
+    for (const Eigen::Vector3i &t : head.triangles) obj << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+    obj.close();
+    plume::StrandSet scaled = guides;
+    for (Eigen::Vector3f &p : scaled.positions) p *= scale;
+    scaled.widths.clear();
+    plume::io::write_strands(scratch / (name + "_guides.hair"), scaled);
+    std::ofstream groom(scratch / (name + ".groom.yaml"));
+    groom << "plume: 1\nemitter: {mesh: " << name << ".obj}\nguides: {file: " << name << "_guides.hair}\n"
+          << "roots: {count: 600, near_guides: " << 2.0f * scale << ", seed: 3}\nstrands: {points: 8}\n"
+          << "interpolation: {method: linear, k: 4}\n";
+    return scratch / (name + ".groom.yaml");
+  };
+  const auto preview = [&](const std::string &groom, const std::string &png) {
+    return run_ok("preview " + quoted(groom) + " --size 160 --color problems --out " + quoted(scratch / png), scratch).out;
+  };
+  const std::string unit = preview(write_groom("unit", 1.0f), "unit.png");
+  const Picture reference = read_png(scratch / "unit.png");
+  // The counts, without the tolerance (which scales).
+  const auto counts = [](const std::string &line) {
+    return std::regex_replace(line, std::regex(R"(\(tolerance [^)]*\))"), "");
+  };
+  for (const float scale : {100.0f, 0.01f}) {
+    const std::string name = scale > 1.0f ? "large" : "small";
+    const std::string out = preview(write_groom(name, scale), name + ".png");
+    INFO("scale " << scale << "\n" << unit << out);
+    CHECK(counts(out) == counts(unit));
+    const double alike = alike_fraction(reference, read_png(scratch / (name + ".png")), 0.0, 0.0, 1.0, 1.0);
+    CHECK(alike > 0.99);
+  }
+}
+

@@ -508,7 +508,7 @@ void view_groom(const ViewArgs &args) {
 
   ViewInput input;
   input.title = groom.name.empty() ? std::filesystem::path(groom.source).stem().string() : groom.name;
-  input.source = groom.source;
+  input.source = groom_file_name(groom);
   input.fps = groom.dynamics.fps;
   input.skin = pipeline.rest_mesh();
   const size_t strand_count = pipeline.roots().size();
@@ -558,7 +558,7 @@ void view_strand_files(const ViewArgs &args) {
 
   ViewInput input;
   input.title = std::filesystem::path(expand_frame_pattern(args.input, range.first)).stem().string();
-  input.source = args.input;
+  input.source = std::filesystem::path(args.input).filename().string();
   input.skin = rest;
   input.offsets = first.offsets;
   input.ids = first.ids;
@@ -629,7 +629,8 @@ void add_view_command(CLI::App &app, int &r_exit_code) {
       ->required();
   cmd->add_option("--out", args->out, "The page (.html)")->required();
   cmd->add_option("--frames", args->frames,
-                  "Frames: 7, 1-48 or 1-48:4; a range gets a frame slider (default: a groom's output.frames)");
+                  "Frames: 7, 1-48, 1-48:4 or 1-48x4; a range gets a frame slider (default: a groom's output.frames)")
+      ->check(non_empty_frames());
   cmd->add_option("--mesh", args->mesh,
                   "Strand files: the skin they stand on (.obj; a pattern with #### for a moving skin)");
   cmd->add_option("--guides", args->guides, "Strand files: guides to show with them (a file, or a pattern)");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "app/commands.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "io/point_list.h"
@@ -98,7 +99,7 @@ io::FeatherWriteOptions FeatherPipeline::write_options() const {
   options.meters_per_unit = groom_.output.meters_per_unit;
   options.up_axis = groom_.output.up_axis;
   options.obj_uv_along_barbs = groom_.feathers.detail.uv == FeatherDetail::Uv::barb;
-  options.comment = "plume regrow of " + groom_.source;
+  options.comment = "plume regrow of " + groom_file_name(groom_);
   return options;
 }
 

@@ -62,9 +62,13 @@ std::string join(const std::vector<std::string> &items, const std::string &separ
 
 std::string indexed(const std::string &path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
-/// True when `pattern` holds a frame field: a run of '#' or a printf field %d / %0Nd.
+/// True when `pattern` holds a frame field: a run of '#', a printf field %d / %0Nd, or Houdini's
+/// $F / $FN (not followed by a letter or '_'), as app/frame_range.h reads them.
 bool has_frame_field(const std::string &pattern) {
   if (pattern.find('#') != std::string::npos) return true;
+  for (size_t i = pattern.find("$F"); i != std::string::npos; i = pattern.find("$F", i + 1))
+    if (i + 2 == pattern.size() || !(std::isalpha(static_cast<unsigned char>(pattern[i + 2])) || pattern[i + 2] == '_'))
+      return true;
   for (size_t i = 0; i + 1 < pattern.size(); ++i) {
     if (pattern[i] != '%') continue;
     size_t j = i + 1;
@@ -74,7 +78,7 @@ bool has_frame_field(const std::string &pattern) {
   return false;
 }
 
-/// "A", "A-B" or "A-B:S" with integers A <= B (either may be negative, "-5-10") and S >= 1.
+/// "A", "A-B", "A-B:S" or "A-BxS" with integers A <= B (either may be negative, "-5-10") and S >= 1.
 bool valid_frame_range(const std::string &text) {
   size_t pos = 0;
   auto integer = [&](long long &r_value) {
@@ -92,7 +96,7 @@ bool valid_frame_range(const std::string &text) {
   if (pos < text.size() && text[pos] == '-') {
     ++pos;
     if (!integer(last)) return false;
-    if (pos < text.size() && text[pos] == ':') {
+    if (pos < text.size() && (text[pos] == ':' || text[pos] == 'x')) {
       ++pos;
       if (!integer(step)) return false;
     }
@@ -207,7 +211,7 @@ class GroomReader {
     return path;
   }
   /// An output path pattern (need not exist), with one of `extensions`; `needs_frame` requires a
-  /// frame field (#### or %04d).
+  /// frame field (####, %04d or $F4).
   std::string output_pattern(YamlMap &m, const std::string &key, const std::vector<std::string> &extensions,
                              bool needs_frame) {
     const std::string written = m.string(key, "");
@@ -217,7 +221,7 @@ class GroomReader {
     if (std::find(extensions.begin(), extensions.end(), lower_extension(written)) == extensions.end())
       fail_expected(file_, node, m.key_path(key), "a path ending in " + join(extensions, ", "));
     if (needs_frame && !has_frame_field(written))
-      fail_expected(file_, node, m.key_path(key), "a path with a frame field (#### or %04d)");
+      fail_expected(file_, node, m.key_path(key), "a path with a frame field (####, %04d or $F4)");
     return absolute(written);
   }
 
@@ -613,7 +617,7 @@ void GroomReader::read_output(YamlMap &root, GroomDesc &groom) {
     forbid(out, "vanes", "without a feathers section (vanes are feather meshes)");
   o.frames = out.string("frames", o.frames);
   if (!o.frames.empty() && !valid_frame_range(o.frames))
-    fail_expected(file_, out.node("frames"), out.key_path("frames"), "a frame range A, A-B or A-B:S (A <= B, S >= 1)");
+    fail_expected(file_, out.node("frames"), out.key_path("frames"), "a frame range A, A-B, A-B:S or A-BxS (A <= B, S >= 1)");
   o.preview_pattern = output_pattern(out, "preview", {".png"}, false);
   o.preview_every = int(out.integer("preview_every", o.preview_every, 0, 1000000));
   o.preview_size = int(out.integer("preview_size", o.preview_size, 16, max_preview_size));

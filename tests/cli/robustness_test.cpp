@@ -106,7 +106,7 @@ TEST_CASE("a malformed frame field names the option or the groom key it came fro
                        quoted(o + "/p.%x.png"),
                    "--preview: path pattern", scratch, out);
   require_rejected("simulate " + quoted(cache) + one + " --cache " + quoted(o + "/c.#.%d.hair"),
-                   "--cache: path pattern \"" + o + "/c.#.%d.hair\": expected one frame field (#### or %04d), got two",
+                   "--cache: path pattern \"" + o + "/c.#.%d.hair\": expected one frame field (####, %04d or $F4), got two",
                    scratch, out);
 }
 

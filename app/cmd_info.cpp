@@ -133,9 +133,16 @@ void print_groom_json(const std::string &path, const GroomDesc &groom) {
   json.begin_object().key("file").value(path).key("kind").value("groom").key("name").value(groom.name);
   json.key("emitter").value(groom.emitter_path).key("guides").value(groom.guides_path);
   json.key("feathers").value(groom.feathers.enabled).key("dynamics").value(groom.dynamics.enabled);
+  // Hair groups, by name in groom_group_id order: empty for a groom without groups (its fields are
+  // the groom's own); the fields above are then the first group's.
+  json.key("groups").begin_array();
+  for (const GroomDesc &group : groom.groups) json.value(group.group_name);
+  json.end_array();
   json.key("output").begin_object();
   json.key("path").value(groom.output.path_pattern).key("preview").value(groom.output.preview_pattern);
   if (groom.feathers.enabled) json.key("vanes").value(groom.output.vanes_pattern);
+  json.key("stage").value(groom.output.stage_path).key("meters_per_unit").value(groom.output.meters_per_unit);
+  json.key("up_axis").value(groom.output.up_axis);
   json.key("frames").value(groom.output.frames.empty() ? std::string("1") : groom.output.frames).end_object();
   json.key("description").begin_array();
   const std::string text = io::describe_groom(groom);

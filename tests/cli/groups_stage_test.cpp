@@ -224,6 +224,11 @@ TEST_CASE("a groom of hair groups writes every group: one BasisCurves prim each,
     const RunResult info = run_plume("info " + quoted(groom), scratch);
     CHECK(info.out.find("groups: 2 (scalp, brows)") != std::string::npos);
     CHECK(info.out.find("group brows (groom_group_id 1):\n  guides: ") != std::string::npos);
+    const RunResult json = run_plume("info " + quoted(groom) + " --json", scratch);
+    CHECK(json.exit_code == 0);
+    CHECK(json.out.find("\"groups\":[\"scalp\",\"brows\"]") != std::string::npos);
+    CHECK(json.out.find("\"meters_per_unit\":0.01") != std::string::npos);
+    CHECK(json.out.find("\"up_axis\":\"Y\"") != std::string::npos);
     const std::string twice = write_groups_groom(scratch, "twice", "  - name: brows\n    guides: {file: " +
                                                                        sintel_dir() + "/sintel_guides.hair}\n"
                                                                        "    roots: {count: 5}\n");

@@ -449,7 +449,7 @@ void view_feather_groom(const GroomDesc &groom, const PipelineOptions &options, 
 
   ViewInput input;
   input.title = groom.name.empty() ? std::filesystem::path(groom.source).stem().string() : groom.name;
-  input.source = groom.source;
+  input.source = groom_file_name(groom);
   input.fps = groom.dynamics.fps;
   input.skin = pipeline.base().rest_mesh();
   const StrandSet &curves = rest.curves.curves;

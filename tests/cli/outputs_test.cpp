@@ -154,6 +154,13 @@ TEST_CASE("a proxy run (--strands) never overwrites the full groom's outputs unl
   CHECK(read_text(full[0]) != full_bytes[0]);
   CHECK(read_text(full[2]) == full_bytes[2]);  // p.0001.png: no preview this time
   CHECK(files_in(scratch.path / "out").size() == 8);
+  // Patterns without a frame field, or with $F4, in a sub-folder: the name changes, not the folder.
+  const std::string other = write_sintel_groom(
+      scratch, "other", "output: {path: sub/h.usda, preview: sub/p.$F4.png, preview_size: 32, frames: 3}\n");
+  run = run_plume("regrow " + quoted(other) + " --strands 7", scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(files_in(scratch.path / "sub") ==
+        std::vector<std::string>{scratch / "sub/h_proxy7.usda", scratch / "sub/p_proxy7.0003.png"});
 }
 
 TEST_CASE("two copies of a groom in different folders write the same bytes, hair and feathers", "[cli]") {
@@ -187,7 +194,17 @@ TEST_CASE("two copies of a groom in different folders write the same bytes, hair
     INFO(run.err);
     REQUIRE(run.exit_code == 0);
   }
-  for (const std::string name : {"f.0001.usda", "v.0001.obj"}) {
+  // The 3D view pages, hair and feathers.
+  for (const std::string copy : {"a", "b/deeper/still"})
+    for (const std::string groom : {"sintel", "bird"}) {
+      const RunResult run = run_plume("view " + quoted(scratch / (copy + "/" + groom + "/" + groom + ".groom.yaml")) +
+                                          " --frames 1 --strands 20 --out " +
+                                          quoted(scratch / (copy + "/out/" + groom + ".html")),
+                                      scratch);
+      INFO(run.err);
+      REQUIRE(run.exit_code == 0);
+    }
+  for (const std::string name : {"f.0001.usda", "v.0001.obj", "sintel.html", "bird.html"}) {
     const std::string a = read_text(scratch / ("a/out/" + name));
     CHECK(a.size() > 1000);
     CHECK(a == read_text(scratch / ("b/deeper/still/out/" + name)));

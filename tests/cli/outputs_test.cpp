@@ -70,7 +70,7 @@ TEST_CASE("a shipped groom's outputs stay in its folder, wherever it is copied a
   CHECK(here.out.find((scratch.path / "job/h/h.####.hair").string() + ": 1 file") != std::string::npos);
 }
 
-TEST_CASE("the summary counts every file and byte a run wrote, simulate's too", "[cli]") {
+TEST_CASE("the summary counts every file and byte a run wrote: regrow, simulate, preview and view", "[cli]") {
   ScratchDir scratch("summary");
   const std::string groom = write_sintel_groom(scratch, "g", "dynamics: {enabled: true}\n");
   RunResult run = run_plume("simulate " + quoted(groom) + " --frames 1-4 --cache " + quoted(scratch / "c/g.####.hair") +
@@ -97,6 +97,18 @@ TEST_CASE("the summary counts every file and byte a run wrote, simulate's too", 
   CHECK(run.out.rfind("plume regrow: frames 1-4:3 (2) in ", 0) == 0);
   CHECK(run.out.find(": 2 files, " + std::to_string(bytes) + " bytes") != std::string::npos);
   CHECK(run.out.find("  previews  none\n") != std::string::npos);
+  // preview and view, one file each.
+  run = run_plume("preview " + quoted(groom) + " --frame 2 --strands 30 --size 32 --out " + quoted(scratch / "pv/p.####.png"),
+                  scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.rfind("plume preview: frame 2 (1) in ", 0) == 0);
+  CHECK(run.out.find("  preview  " + (scratch.path / "pv/p.####.png").string() + ": 1 file, " +
+                     std::to_string(fs::file_size(scratch / "pv/p.0002.png")) + " bytes") != std::string::npos);
+  run = run_plume("view " + quoted(groom) + " --frames 1-2 --strands 20 --out " + quoted(scratch / "pv/v.html"), scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.rfind("plume view: frames 1-2 (2) in ", 0) == 0);
+  CHECK(run.out.find("  page  " + (scratch.path / "pv/v.html").string() + ": 1 file, " +
+                     std::to_string(fs::file_size(scratch / "pv/v.html")) + " bytes") != std::string::npos);
 }
 
 TEST_CASE("--no-preview writes no preview; --preview \"\" and --out \"\" are errors, not the groom's paths", "[cli]") {

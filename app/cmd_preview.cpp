@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/groom_outputs.h"
 #include "app/feather_commands.h"
 #include "app/pipeline.h"
 #include "app/run_outputs.h"
@@ -54,6 +55,7 @@ void run_preview(const PreviewArgs &args) {
                      std::to_string(max_preview_size) + " pixels (give a smaller --size)");
 
   const GroomDesc groom = io::read_groom_file(args.groom);
+  require_one_group(groom, "plume preview");
   const FrameRange single{args.frame, args.frame, 1};
   RunSummary summary("preview", single);
   check_output_pattern(args.out, single, "--out", {".png"});

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/groom_outputs.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
 #include "app/run_outputs.h"
@@ -28,6 +29,7 @@ struct SimulateArgs {
 
 void run_simulate(const SimulateArgs &args) {
   const GroomDesc groom = io::read_groom_file(args.groom);
+  require_one_group(groom, "plume simulate");
   if (!groom.dynamics.enabled)
     throw InputError(groom.dynamics_loc(), "dynamics.enabled: expected true for plume simulate (the groom has no "
                                            "dynamics: its guides only follow the skin)");

@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "app/feather_pipeline.h"
+#include "app/groom_outputs.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
 #include "app/run_outputs.h"
@@ -492,6 +493,7 @@ void view_groom(const ViewArgs &args) {
   if (!args.mesh.empty()) throw InputError("--mesh: a groom names its emitter (--mesh is for strand files)");
   if (!args.guides.empty()) throw InputError("--guides: a groom names its guides (--guides is for strand files)");
   const GroomDesc groom = io::read_groom_file(args.input);
+  require_one_group(groom, "plume view");
   const FrameRange range = frames_to_produce(args.frames, groom);
   const FrameRange first_only{range.first, range.first, 1};
   check_output_locations(args.out, first_only, "--out", RunInputs(groom, args.guides_cache));

@@ -51,7 +51,9 @@ TEST_CASE("a shipped groom's outputs stay in its folder, wherever it is copied a
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
   const fs::path out = scratch.path / "shots/s010/groom/out";
-  CHECK(files_in(out) == std::vector<std::string>{(out / "hair.0001.usda").string(), (out / "preview.0001.png").string()});
+  // The frame, the USD stage of the groom's frames and its manifest, and the preview.
+  CHECK(files_in(out) == std::vector<std::string>{(out / "hair.0001.usda").string(), (out / "hair.manifest.usda").string(),
+                                                  (out / "hair.usda").string(), (out / "preview.0001.png").string()});
   CHECK(files_in(scratch.path / "job").empty());
   INFO(run.out);
   const std::string size = std::to_string(fs::file_size(out / "hair.0001.usda"));
@@ -146,7 +148,7 @@ TEST_CASE("a proxy run (--strands) never overwrites the full groom's outputs unl
   RunResult run = run_plume("regrow " + quoted(groom), scratch);
   REQUIRE(run.exit_code == 0);
   const std::vector<std::string> full = files_in(scratch.path / "out");
-  REQUIRE(full.size() == 4);
+  REQUIRE(full.size() == 6);  // 2 frames, 2 previews, the USD stage and its manifest
   std::vector<std::string> full_bytes;
   for (const std::string &file : full) full_bytes.push_back(read_text(file));
 
@@ -164,8 +166,8 @@ TEST_CASE("a proxy run (--strands) never overwrites the full groom's outputs unl
                   scratch);
   REQUIRE(run.exit_code == 0);
   CHECK(read_text(full[0]) != full_bytes[0]);
-  CHECK(read_text(full[2]) == full_bytes[2]);  // p.0001.png: no preview this time
-  CHECK(files_in(scratch.path / "out").size() == 8);
+  CHECK(read_text(full[4]) == full_bytes[4]);  // p.0001.png: no preview this time
+  CHECK(files_in(scratch.path / "out").size() == 12);  // and the proxy's frames, previews, stage and manifest
   // Patterns without a frame field, or with $F4, in a sub-folder: the name changes, not the folder.
   const std::string other = write_sintel_groom(
       scratch, "other", "output: {path: sub/h.usda, preview: sub/p.$F4.png, preview_size: 32, frames: 3}\n");

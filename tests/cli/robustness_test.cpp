@@ -358,7 +358,7 @@ TEST_CASE("every needed guide-cache frame is read and checked before the first f
   run = run_plume_bounded(regrow, scratch);
   INFO(run.err);
   CHECK(run.exit_code == 0);
-  CHECK(files_in(out).size() == 3);
+  CHECK(files_in(out).size() == 5);  // the 3 frames, the USD stage and its manifest
 }
 
 TEST_CASE("every needed frame of an emitter sequence is checked before the first file is written", "[cli]") {

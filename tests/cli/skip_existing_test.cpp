@@ -43,7 +43,7 @@ TEST_CASE("--skip-existing after kill -9 mid-batch regrows only the missing fram
                                 quoted(ref + "/p.####.png"),
                             scratch);
   REQUIRE(run.exit_code == 0);
-  REQUIRE(files_in(ref).size() == 9);
+  REQUIRE(files_in(ref).size() == 11);  // 6 frames, 3 previews, the USD stage and its manifest
 
   // The run to kill: the temporary file of frame 3 is a FIFO made before exec (same pid), so the
   // run blocks while writing frame 3, after frames 1 and 2 are complete.
@@ -104,7 +104,8 @@ TEST_CASE("--skip-existing after kill -9 mid-batch regrows only the missing fram
   std::vector<std::string> names;
   for (const std::string &file : files_in(out)) names.push_back(fs::path(file).filename().string());
   CHECK(names == std::vector<std::string>{"h.0001.usda", "h.0002.usda", "h.0003.usda", "h.0004.usda", "h.0005.usda",
-                                          "h.0006.usda", "p.0001.png", "p.0003.png", "p.0005.png"});
+                                          "h.0006.usda", "h.manifest.usda", "h.usda", "p.0001.png", "p.0003.png",
+                                          "p.0005.png"});
   for (const std::string &name : names) {
     INFO(name);
     CHECK(read_text(out + "/" + name) == read_text(ref + "/" + name));

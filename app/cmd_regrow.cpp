@@ -92,7 +92,8 @@ void run_regrow(const RegrowArgs &args) {
   const auto groom_output = [&](const std::string &pattern, bool given) {
     return proxy && !given && !pattern.empty() ? proxy_pattern(pattern, args.strands) : pattern;
   };
-  const std::string out = groom_output(chosen_output(args.out, args.out_given, "--out", groom.output.path_pattern), args.out_given);
+  const std::string out =
+      groom_output(chosen_output(args.out, args.out_given, "--out", groom.output.path_pattern), args.out_given);
   const std::string out_what = args.out_given ? "--out" : groom.source + ": output.path";
   std::string preview_what;
   const std::string preview = groom_output(chosen_preview(args.preview, args.preview_given, args.no_preview,

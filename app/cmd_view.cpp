@@ -17,6 +17,7 @@
 #include "app/groom_outputs.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
+#include "app/run_outputs.h"
 #include "app/strand_colors.h"
 #include "app/view_page.h"
 #include "groom/error.h"
@@ -144,6 +145,7 @@ std::string with_commas(int64_t n) {
 /// Produces every frame of `range` from `input`, checks it, chooses the strands shown within
 /// args.max_points and writes the page.
 void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs &args) {
+  RunSummary summary("view", range);
   // The budget: every point the page holds over its frames. A skin or guides that do not move are
   // stored once.
   const int64_t frame_count = range.count();
@@ -436,6 +438,8 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
                      std::to_string(blob.byte_count() >> 20) + " MB, more than a browser reads in one piece (" +
                      std::to_string(kMaxPageDataBytes >> 20) + " MB): give a smaller --max-points or fewer frames");
   write_view_page(args.out, input.title, json.text(), blob);
+  summary.wrote(summary.add_output("page", args.out), args.out);
+  summary.print();
 }
 
 /// The page of a feather groom: its rachis and barb curves as the strands (a sample keeps whole
@@ -450,7 +454,7 @@ void view_feather_groom(const GroomDesc &groom, const PipelineOptions &options, 
 
   ViewInput input;
   input.title = groom.name.empty() ? std::filesystem::path(groom.source).stem().string() : groom.name;
-  input.source = groom.source;
+  input.source = groom_file_name(groom);
   input.fps = groom.dynamics.fps;
   input.skin = pipeline.base().rest_mesh();
   const StrandSet &curves = rest.curves.curves;

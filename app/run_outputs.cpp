@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 
@@ -12,12 +13,14 @@ namespace plume {
 
 namespace {
 
-/// Where the frame field of a file name begins (the first '#', "%d"-like or "$F" field), npos
-/// when it has none.
+/// Where the frame field of a file name begins (the first '#', "%d"-like or $F field, as
+/// app/frame_range.h reads them), npos when it has none.
 size_t frame_field_start(const std::string &name) {
   for (size_t i = 0; i < name.size(); ++i) {
     if (name[i] == '#') return i;
-    if (name[i] == '$' && name.compare(i, 2, "$F") == 0) return i;
+    if (name.compare(i, 2, "$F") == 0 &&
+        !(i + 2 < name.size() && (std::isalpha(static_cast<unsigned char>(name[i + 2])) || name[i + 2] == '_')))
+      return i;
     if (name[i] == '%') {
       if (i + 1 < name.size() && name[i + 1] == '%') {
         ++i;

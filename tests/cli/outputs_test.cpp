@@ -72,7 +72,7 @@ TEST_CASE("a shipped groom's outputs stay in its folder, wherever it is copied a
   CHECK(here.out.find((scratch.path / "job/h/h.####.hair").string() + ": 1 file") != std::string::npos);
 }
 
-TEST_CASE("the summary counts every file and byte a run wrote, simulate's too", "[cli]") {
+TEST_CASE("the summary counts every file and byte a run wrote: regrow, simulate, preview and view", "[cli]") {
   ScratchDir scratch("summary");
   const std::string groom = write_sintel_groom(scratch, "g", "dynamics: {enabled: true}\n");
   RunResult run = run_plume("simulate " + quoted(groom) + " --frames 1-4 --cache " + quoted(scratch / "c/g.####.hair") +
@@ -99,6 +99,18 @@ TEST_CASE("the summary counts every file and byte a run wrote, simulate's too", 
   CHECK(run.out.rfind("plume regrow: frames 1-4:3 (2) in ", 0) == 0);
   CHECK(run.out.find(": 2 files, " + std::to_string(bytes) + " bytes") != std::string::npos);
   CHECK(run.out.find("  previews  none\n") != std::string::npos);
+  // preview and view, one file each.
+  run = run_plume("preview " + quoted(groom) + " --frame 2 --strands 30 --size 32 --out " + quoted(scratch / "pv/p.####.png"),
+                  scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.rfind("plume preview: frame 2 (1) in ", 0) == 0);
+  CHECK(run.out.find("  preview  " + (scratch.path / "pv/p.####.png").string() + ": 1 file, " +
+                     std::to_string(fs::file_size(scratch / "pv/p.0002.png")) + " bytes") != std::string::npos);
+  run = run_plume("view " + quoted(groom) + " --frames 1-2 --strands 20 --out " + quoted(scratch / "pv/v.html"), scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(run.out.rfind("plume view: frames 1-2 (2) in ", 0) == 0);
+  CHECK(run.out.find("  page  " + (scratch.path / "pv/v.html").string() + ": 1 file, " +
+                     std::to_string(fs::file_size(scratch / "pv/v.html")) + " bytes") != std::string::npos);
 }
 
 TEST_CASE("--no-preview writes no preview; --preview \"\" and --out \"\" are errors, not the groom's paths", "[cli]") {
@@ -156,6 +168,13 @@ TEST_CASE("a proxy run (--strands) never overwrites the full groom's outputs unl
   CHECK(read_text(full[0]) != full_bytes[0]);
   CHECK(read_text(full[4]) == full_bytes[4]);  // p.0001.png: no preview this time
   CHECK(files_in(scratch.path / "out").size() == 12);  // and the proxy's frames, previews, stage and manifest
+  // Patterns without a frame field, or with $F4, in a sub-folder: the name changes, not the folder.
+  const std::string other = write_sintel_groom(
+      scratch, "other", "output: {path: sub/h.usda, preview: sub/p.$F4.png, preview_size: 32, frames: 3}\n");
+  run = run_plume("regrow " + quoted(other) + " --strands 7", scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(files_in(scratch.path / "sub") ==
+        std::vector<std::string>{scratch / "sub/h_proxy7.usda", scratch / "sub/p_proxy7.0003.png"});
 }
 
 TEST_CASE("two copies of a groom in different folders write the same bytes, hair and feathers", "[cli]") {
@@ -189,7 +208,17 @@ TEST_CASE("two copies of a groom in different folders write the same bytes, hair
     INFO(run.err);
     REQUIRE(run.exit_code == 0);
   }
-  for (const std::string name : {"f.0001.usda", "v.0001.obj"}) {
+  // The 3D view pages, hair and feathers.
+  for (const std::string copy : {"a", "b/deeper/still"})
+    for (const std::string groom : {"sintel", "bird"}) {
+      const RunResult run = run_plume("view " + quoted(scratch / (copy + "/" + groom + "/" + groom + ".groom.yaml")) +
+                                          " --frames 1 --strands 20 --out " +
+                                          quoted(scratch / (copy + "/out/" + groom + ".html")),
+                                      scratch);
+      INFO(run.err);
+      REQUIRE(run.exit_code == 0);
+    }
+  for (const std::string name : {"f.0001.usda", "v.0001.obj", "sintel.html", "bird.html"}) {
     const std::string a = read_text(scratch / ("a/out/" + name));
     CHECK(a.size() > 1000);
     CHECK(a == read_text(scratch / ("b/deeper/still/out/" + name)));

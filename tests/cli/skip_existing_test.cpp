@@ -132,3 +132,27 @@ TEST_CASE("--skip-existing after kill -9 mid-batch regrows only the missing fram
   CHECK(identity(out + "/h.0004.usda") != fourth);
   CHECK(run.out.find(out_pattern + ": 6 files, ") != std::string::npos);
 }
+
+TEST_CASE("--skip-existing on a feather groom: a frame is complete when its curves and its vanes are", "[cli]") {
+  ScratchDir scratch("skip_existing_feathers");
+  const std::string bird = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/bird.groom.yaml";
+  const std::string args = "regrow " + quoted(bird) + " --frames 1-3 --strands 20 --no-preview --out " +
+                           quoted(scratch / "f.####.usda") + " --vanes " + quoted(scratch / "v.####.obj");
+  RunResult run = run_plume(args, scratch);
+  REQUIRE(run.exit_code == 0);
+  const std::string vanes_2 = read_text(scratch / "v.0002.obj");
+  fs::remove(scratch / "v.0002.obj");
+  const auto curves_1 = identity(scratch / "f.0001.usda"), curves_2 = identity(scratch / "f.0002.usda");
+  const auto curves_3 = identity(scratch / "f.0003.usda"), vanes_3 = identity(scratch / "v.0003.obj");
+  run = run_plume(args + " --skip-existing", scratch);
+  INFO(run.err << run.out);
+  REQUIRE(run.exit_code == 0);
+  CHECK(identity(scratch / "f.0001.usda") == curves_1);
+  CHECK(identity(scratch / "f.0003.usda") == curves_3);
+  CHECK(identity(scratch / "v.0003.obj") == vanes_3);
+  CHECK(identity(scratch / "f.0002.usda") != curves_2);  // frame 2 regrown whole, to the same bytes
+  CHECK(read_text(scratch / "v.0002.obj") == vanes_2);
+  CHECK(run.out.find("vanes     " + scratch / "v.####.obj" + ": 1 file, ") != std::string::npos);
+  CHECK(run.out.find("curves    " + scratch / "f.####.usda" + ": 1 file, ") != std::string::npos);
+  CHECK(run.out.find("2 complete already") != std::string::npos);
+}

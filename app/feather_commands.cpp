@@ -12,6 +12,7 @@
 #include "io/groom_file.h"
 #include "io/file_scan.h"
 #include "io/obj_mesh.h"
+#include "io/strand_file.h"
 
 namespace plume {
 

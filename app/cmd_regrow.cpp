@@ -57,6 +57,9 @@ void run_regrow(const RegrowArgs &args) {
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(range);
+  // What runs killed by SIGKILL left of these outputs goes, now that the run is known to start.
+  remove_stale_temp_files(out, range);
+  remove_stale_temp_files(previews.pattern(), range);
 
   io::StrandWriteOptions write_options;
   write_options.root_uvs = pipeline.root_uvs();
@@ -65,7 +68,6 @@ void run_regrow(const RegrowArgs &args) {
   PreviewStyle style;
   style.size = preview_size;
   const PreviewCamera camera = groom_camera(pipeline);
-  const std::vector<bool> scalp = groom_scalp(pipeline);
 
   Progress progress("regrow", int(range.count()));
   for (int64_t i = 0; i < range.count(); ++i) {
@@ -76,7 +78,7 @@ void run_regrow(const RegrowArgs &args) {
     const std::string preview = previews.path_at(i, frame);
     if (!preview.empty())
       write_png(preview, render_preview(camera, result.mesh, result.strands,
-                                        args.preview_guides ? &result.guides : nullptr, style, scalp));
+                                        args.preview_guides ? &result.guides : nullptr, style));
     progress.frame_done(frame);
   }
 }

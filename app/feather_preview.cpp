@@ -4,8 +4,8 @@ namespace plume {
 
 Image render_feather_preview(const PreviewCamera &camera, const Mesh &mesh, const feathers::CoatFrame &feathers,
                              const StrandSet *stems, PreviewStyle style) {
-  // The vanes join the emitter as triangles flagged as "scalp", which the rasteriser shades in a
-  // dark tone of the hair colour: the barbs drawn over them read as the feather's fibres.
+  // The vanes join the emitter as triangles painted in a dark tone of the hair colour: the barbs
+  // drawn over them read as the feather's fibres.
   Mesh scene = mesh;
   const VaneMesh &vanes = feathers.vanes;
   const int first = int(scene.positions.size());
@@ -15,9 +15,11 @@ Image render_feather_preview(const PreviewCamera &camera, const Mesh &mesh, cons
   scene.triangle_uvs.clear();
   scene.uvs.clear();
   scene.compute_normals();
-  std::vector<bool> vane_triangles(scene.triangles.size(), false);
-  std::fill(vane_triangles.begin() + long(mesh.triangle_count()), vane_triangles.end(), true);
-  return render_preview(camera, scene, feathers.curves.curves, stems, style, vane_triangles);
+  StrandPaint paint;
+  paint.triangle_colors.assign(scene.triangles.size(), style.skin_color);
+  std::fill(paint.triangle_colors.begin() + long(mesh.triangle_count()), paint.triangle_colors.end(),
+            Eigen::Vector3f(0.45f * style.hair_color));
+  return render_preview(camera, scene, feathers.curves.curves, stems, style, paint);
 }
 
 PreviewCamera feather_camera(const Mesh &rest_mesh, const StrandSet &curves) {

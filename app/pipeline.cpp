@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "app/frame_range.h"
+#include "controls/control_rig.h"
 #include "dynamics/guide_simulator.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
@@ -17,6 +18,7 @@
 #include "interp/interpolate.h"
 #include "partings/parting_field.h"
 #include "skin/skin_grid.h"
+#include "io/control_section.h"
 #include "io/obj_mesh.h"
 #include "io/point_list.h"
 #include "io/strand_file.h"
@@ -197,6 +199,9 @@ Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : gro
 
   if (groom_.dynamics.enabled && options_.guides_cache.empty())
     simulator_ = std::make_unique<dynamics::GuideSimulator>(rest_mesh_, guides_, groom_.dynamics);
+  if (!groom_.controls.empty())
+    controls_ = std::make_unique<controls::ControlRig>(rest_mesh_, guides_, groom_.controls,
+                                                       io::read_control_maps(groom_.controls, rest_mesh_.vertex_count()));
 }
 
 Pipeline::~Pipeline() = default;
@@ -217,21 +222,44 @@ Mesh posed_emitter(const GroomDesc &groom, const Mesh &rest_mesh, int frame) {
 Mesh Pipeline::posed_mesh(int frame) const { return posed_emitter(groom_, rest_mesh_, frame); }
 
 StrandSet Pipeline::guides_at(int frame, const Mesh &posed) {
-  if (!groom_.dynamics.enabled) return carry_guides(rest_mesh_, posed, guides_);
+  if (!groom_.dynamics.enabled) {
+    StrandSet guides = carry_guides(rest_mesh_, posed, guides_);
+    if (controls_) controls_->apply(frame, posed, guides);
+    return guides;
+  }
 
   if (!options_.guides_cache.empty()) return read_cached_guides(frame);
 
+  // The controls turn the simulated guides' roots at every simulated frame.
+  controls::GuidePose pose;
+  auto turns_at = [&](int at, const Mesh &mesh) -> std::span<const Eigen::Quaternionf> {
+    if (!controls_) return {};
+    controls_->pose(at, mesh, pose);
+    return pose.turns;
+  };
   const int start = std::min(options_.simulation_start, frame) - groom_.dynamics.preroll_frames;
   if (!simulated_frame_ || *simulated_frame_ > frame) {
-    simulator_->reset(posed_mesh(start));
+    const Mesh start_mesh = start == frame ? posed : posed_mesh(start);
+    simulator_->reset(start_mesh, turns_at(start, start_mesh));
     simulated_frame_ = start;
   }
   while (*simulated_frame_ < frame) {
     const int next = *simulated_frame_ + 1;
-    simulator_->step_frame(next == frame ? posed : posed_mesh(next));
+    if (next == frame) {
+      simulator_->step_frame(posed, turns_at(next, posed));
+    } else {
+      const Mesh next_mesh = posed_mesh(next);
+      simulator_->step_frame(next_mesh, turns_at(next, next_mesh));
+    }
     simulated_frame_ = next;
   }
-  return simulator_->guides();
+  if (!controls_) return simulator_->guides();
+  // The rig-driven guides, with the simulation mixed in by each control's dynamic blend.
+  StrandSet guides = carry_guides(rest_mesh_, posed, guides_);
+  controls_->pose(frame, posed, pose);
+  controls_->apply(pose, guides);
+  controls_->blend_dynamics(pose, simulator_->guides(), guides);
+  return guides;
 }
 
 FrameResult Pipeline::produce(int frame, bool with_effects) {

@@ -32,6 +32,9 @@ class EffectStack;
 namespace dynamics {
 class GuideSimulator;
 }
+namespace controls {
+class ControlRig;
+}
 
 /// The emitter's rigid transform at `frame` (identity when the animation is not rigid or has no
 /// keys): p' = pivot + translate + R * (scale * (p - pivot)), R from XYZ Euler angles (X first).
@@ -90,13 +93,17 @@ class Pipeline {
   /// The partings (empty when the groom has none) and the binding of the roots.
   const partings::PartingField &partings() const { return *partings_; }
   const interp::Binding &binding() const { return *binding_; }
+  /// The effects stack (its clumps, for pictures that show them).
+  const effects::EffectStack &effects() const { return *effects_; }
 
   /// The emitter at `frame`: an OBJ of the sequence, the rest mesh rigidly moved, or the rest mesh.
   Mesh posed_mesh(int frame) const;
-  /// The guides at `frame` on `posed` (= posed_mesh(frame)). Without dynamics: carried by the skin.
-  /// With a cache: read from it (InputError when the file is missing or does not match the guides).
-  /// Otherwise simulated from options.simulation_start - preroll: frames should be asked for in
-  /// increasing order; asking for an earlier frame restarts the simulation.
+  /// The guides at `frame` on `posed` (= posed_mesh(frame)). Without dynamics: carried by the skin,
+  /// then posed by the groom's controls. With a cache: read from it (InputError when the file is
+  /// missing or does not match the guides); the cache holds the guides after the controls.
+  /// Otherwise simulated from options.simulation_start - preroll, the roots turned by the controls
+  /// at every frame, and mixed with the rig-driven guides by their dynamic blend: frames should be
+  /// asked for in increasing order; asking for an earlier frame restarts the simulation.
   StrandSet guides_at(int frame, const Mesh &posed);
   /// The whole frame: posed mesh, guides, grown strands with effects applied and pushed out of the skin.
   /// `with_effects` false: the strands as growth leaves them, before the effects stack.
@@ -123,6 +130,7 @@ class Pipeline {
   std::unique_ptr<interp::Binding> binding_;
   std::unique_ptr<effects::EffectStack> effects_;
   std::unique_ptr<dynamics::GuideSimulator> simulator_;
+  std::unique_ptr<controls::ControlRig> controls_;  // null when the groom has no controls
   std::optional<int> simulated_frame_;  // the frame the simulator's state is at
 };
 

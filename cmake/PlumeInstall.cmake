@@ -9,7 +9,7 @@ include(CMakePackageConfigHelpers)
 # include/plume/<folder>/*.h, included as "<folder>/<name>.h", as inside Plume).
 set(PLUME_INSTALLED_LIBRARIES
   groom:plume_groom skin:plume_skin partings:plume_partings interp:plume_interp effects:plume_effects
-  check:plume_check dynamics:plume_dynamics feathers:plume_feathers io:plume_io app:plume_pipeline)
+  check:plume_check dynamics:plume_dynamics controls:plume_controls feathers:plume_feathers io:plume_io app:plume_pipeline)
 
 foreach(entry ${PLUME_INSTALLED_LIBRARIES})
   string(REPLACE ":" ";" parts ${entry})

@@ -866,7 +866,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     // Moving a point changes no later point's test, so a batch is tested before any point of it moves.
     for (int64_t batch = 1; batch < count; batch += 4) {
       const int64_t lanes = std::min<int64_t>(4, count - batch);
-      Float4 before = Float4{} + skin_margin, moved_sq;
+      Float4 before = Float4{} + skin_margin, moved_sq = Float4{} + INFINITY;  // lanes past the end: never proven
       if (lanes == 4) {
         Float4 moved[3], from[3];
         load_lanes(pts.data() + batch, moved);

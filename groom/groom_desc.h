@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "groom/control_desc.h"
 #include "groom/dynamics_desc.h"
 #include "groom/effect_desc.h"
 #include "groom/error.h"
@@ -97,6 +98,7 @@ struct GroomDesc {
   /// Enabled when the groom grows feathers (then roots, strands, interpolation, partings and effects
   /// are not used: follicles, templates and stems say everything).
   FeatherDesc feathers;
+  ControlSettings controls;
   OutputSettings output;
 
   /// Where the dynamics section is written, or the groom file when it has none (for messages).

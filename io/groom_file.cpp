@@ -13,6 +13,7 @@
 
 #include "groom/limits.h"
 #include "io/feather_file.h"
+#include "io/control_section.h"
 #include "io/yaml_fields.h"
 
 namespace plume::io {
@@ -661,6 +662,7 @@ GroomDesc GroomReader::read(const YAML::Node &document) {
   }
 
   read_dynamics(root, groom);
+  read_controls_section(root, file_, groom);
   read_output(root, groom);
   root.finish();
   return groom;
@@ -733,6 +735,9 @@ std::string describe_groom(const GroomDesc &groom) {
         << " collision shapes" << (d.collide_with_emitter ? " + emitter" : "") << "\n";
   else
     out << "dynamics: off\n";
+  if (!groom.controls.empty())
+    out << "controls: " << groom.controls.controls.size() << ", "
+        << (groom.controls.binding == ControlSettings::Binding::nearest ? "nearest" : "blended") << " binding\n";
   const OutputSettings &o = groom.output;
   out << "output: " << (o.path_pattern.empty() ? "(none)" : o.path_pattern)
       << ", frames " << (o.frames.empty() ? "1" : o.frames) << "\n";

@@ -1,13 +1,13 @@
 #include "app/feather_commands.h"
 
-#include "check/vanes.h"
-
 #include <cstdio>
+#include <memory>
 
 #include "app/commands.h"
 #include "app/feather_pipeline.h"
 #include "app/feather_preview.h"
 #include "app/progress.h"
+#include "app/run_outputs.h"
 #include "check/vanes.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
@@ -37,10 +37,8 @@ PreviewStyle feather_style(int size) {
 
 void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
   const FrameRange range = frames_to_produce(args.frames, groom);
-  const std::string out = args.out.empty() ? groom.output.path_pattern : args.out;
-  const std::string out_what = args.out.empty() ? groom.source + ": output.path" : "--out";
-  const std::string vanes = args.vanes.empty() ? groom.output.vanes_pattern : args.vanes;
-  const std::string vanes_what = args.vanes.empty() ? groom.source + ": output.vanes" : "--vanes";
+  const std::string &out = args.out, &out_what = args.out_what;
+  const std::string &vanes = args.vanes, &vanes_what = args.vanes_what;
   if (out.empty() && vanes.empty())
     throw InputError("--out: expected an output for the feather curves (or --vanes for the vane meshes), got none "
                      "(the groom has neither output.path nor output.vanes)");
@@ -48,9 +46,8 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
   if (!vanes.empty()) check_output_pattern(vanes, range, vanes_what, kVaneExtensions);
   if (!out.empty() && out == vanes)
     throw InputError(vanes_what + ": expected another path than the curves' (" + out + ")");
-  const PreviewSchedule previews(args.preview.empty() ? groom.output.preview_pattern : args.preview,
-                                 args.preview_every >= 0 ? args.preview_every : groom.output.preview_every, range,
-                                 args.preview.empty() ? groom.source + ": output.preview" : "--preview");
+  const PreviewSchedule previews(args.preview, args.preview_every >= 0 ? args.preview_every : groom.output.preview_every,
+                                 range, args.preview_what);
   const RunInputs inputs(groom, args.guides_cache);
   if (!out.empty()) check_output_locations(out, range, out_what, inputs);
   if (!vanes.empty()) check_output_locations(vanes, range, vanes_what, inputs);
@@ -58,34 +55,76 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
   const int preview_size = preview_size_of(args.preview_size, groom);
   set_thread_count(args.threads);
 
+  RunSummary summary("regrow", range);
+  const int curves_output = summary.add_output("curves", out);
+  const int vanes_output = summary.add_output("vanes", vanes);
+  const int previews_output = summary.add_output("previews", previews.pattern());
+  const auto path_of = [](const std::string &pattern, int frame) {
+    return pattern.empty() ? std::string() : expand_frame_pattern(pattern, frame);
+  };
+  // With --skip-existing, a frame whose files are all there (complete: they are renamed into place
+  // whole) is not regrown.
+  std::vector<bool> done_already(size_t(range.count()), false);
+  int64_t to_grow = range.count();
+  if (args.skip_existing)
+    for (int64_t i = 0; i < range.count(); ++i) {
+      const int frame = range.at(i);
+      done_already[size_t(i)] = outputs_complete({path_of(out, frame), path_of(vanes, frame), previews.path_at(i, frame)});
+      to_grow -= done_already[size_t(i)] ? 1 : 0;
+    }
+
   PipelineOptions options;
   options.strand_count = args.strands;
   options.guides_cache = args.guides_cache;
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
-  FeatherPipeline pipeline(groom, options);
-  pipeline.base().check_frame_inputs(range);
-
-  io::FeatherWriteOptions write_options = pipeline.write_options();
+  std::unique_ptr<FeatherPipeline> pipeline;
+  io::FeatherWriteOptions write_options;
   PreviewCamera camera;
-  if (!previews.path_at(0, range.first).empty())  // previews are due: the first frame always gets one
-    camera = feather_camera(pipeline.base().rest_mesh(), pipeline.rest_frame().curves.curves);
+  if (to_grow > 0) {
+    pipeline = std::make_unique<FeatherPipeline>(groom, options);
+    pipeline->base().check_frame_inputs(range);
+    write_options = pipeline->write_options();
+    if (!previews.pattern().empty())
+      camera = feather_camera(pipeline->base().rest_mesh(), pipeline->rest_frame().curves.curves);
+  }
+  // What runs killed by SIGKILL left of these outputs goes, now that the run is known to start.
+  remove_stale_temp_files(out, range);
+  remove_stale_temp_files(vanes, range);
+  remove_stale_temp_files(previews.pattern(), range);
 
-  Progress progress("regrow", int(range.count()));
+  Progress progress("regrow", int(to_grow));
   for (int64_t i = 0; i < range.count(); ++i) {
     const int frame = range.at(i);
-    const FeatherPipeline::Frame result = pipeline.produce(frame);
-    write_options.time_code = frame;
-    if (!out.empty()) io::write_feather_curves(expand_frame_pattern(out, frame), result.feathers.curves, write_options);
-    if (!vanes.empty()) io::write_vane_mesh(expand_frame_pattern(vanes, frame), result.feathers.vanes, write_options);
+    const std::string curves_path = path_of(out, frame), vanes_path = path_of(vanes, frame);
     const std::string preview = previews.path_at(i, frame);
-    if (!preview.empty())
+    if (done_already[size_t(i)]) {
+      if (!out.empty()) summary.kept(curves_output, curves_path);
+      if (!vanes.empty()) summary.kept(vanes_output, vanes_path);
+      if (!preview.empty()) summary.kept(previews_output, preview);
+      continue;
+    }
+    const FeatherPipeline::Frame result = pipeline->produce(frame);
+    write_options.time_code = frame;
+    if (!out.empty()) {
+      io::write_feather_curves(curves_path, result.feathers.curves, write_options);
+      summary.wrote(curves_output, curves_path);
+    }
+    if (!vanes.empty()) {
+      io::write_vane_mesh(vanes_path, result.feathers.vanes, write_options);
+      summary.wrote(vanes_output, vanes_path);
+    }
+    if (!preview.empty()) {
       write_png(preview, render_feather_preview(camera, result.mesh, result.feathers,
                                                 args.preview_guides ? &result.stems : nullptr, feather_style(preview_size)));
+      summary.wrote(previews_output, preview);
+    }
     if (result.feathers.layering.unresolved > 0)
       std::fprintf(stderr, "plume: warning: frame %d: %lld feathers could not be turned clear of the feathers below them (shrunk toward their roots)\n",
                    frame, (long long)result.feathers.layering.unresolved);
     progress.frame_done(frame);
   }
+  progress.finish();
+  summary.print();
 }
 
 void run_feather_preview(const GroomDesc &groom, int frame, const std::string &out, int size, bool stems, int threads,

@@ -85,6 +85,8 @@ struct CoatFrame {
 
 /// A coat bound to its rest skin and guide stems. Bind once; grow() every frame (const, parallel,
 /// the same bytes for any thread count: every feather is computed alone into its own place).
+struct StemFrame;  // the stems of one frame, in their roots' skin frames (coat.cpp)
+
 class Coat {
  public:
   /// Binds every follicle: its key-feather weights and blended template (with its seeded
@@ -129,6 +131,9 @@ class Coat {
     Eigen::Quaternionf rest_rotation;  // Q_follicle(rest)^T M Q_guide(rest)
   };
   void bind_stems(const Mesh &rest_mesh, const Guides &stems);
+  /// Feather i's stems' directions at arc length z, blended by their weights and carried into the
+  /// follicle's skin frame (not unit).
+  Eigen::Vector3f blend_stems(const StemFrame &frames, size_t i, float z) const;
 
   FeatherDetail detail_;
   bool lift_ = true;
@@ -146,6 +151,10 @@ class Coat {
   /// Per feather, its base frame in its follicle's rest skin frame (columns side, dorsal, shaft), with
   /// the seeded direction and lift variation applied.
   std::vector<Eigen::Quaternionf> base_frames_;
+  /// Per feather, its stems' blended direction at the middle of its spine's first segment, in its
+  /// follicle's skin frame, on the rest stems: a frame's stems turning away from it (a control's
+  /// lift, the simulation) turn the feather's base frame with them.
+  std::vector<Eigen::Vector3f> rest_first_;
   float falloff_ = 2.0f;
   bool layers_ = true;
   LayeringOptions layering_;

@@ -51,7 +51,7 @@ std::string layer_header(const FeatherWriteOptions &options) {
   }
   out += "    defaultPrim = \"Groom\"\n    metersPerUnit = ";
   append_number(out, options.meters_per_unit);
-  out += "\n    upAxis = \"Y\"\n";
+  out += "\n    upAxis = \"" + options.up_axis + "\"\n";
   if (options.time_code) {
     for (const char *key : {"startTimeCode", "endTimeCode"}) {
       out += std::string("    ") + key + " = ";
@@ -166,7 +166,7 @@ void write_curves_usda(AtomicFile &file, const FeatherCurves &f, const FeatherWr
   std::vector<long long> ids(c.ids.begin(), c.ids.end());
   std::vector<long long> parts(f.parts.size());
   for (size_t i = 0; i < parts.size(); ++i) parts[i] = (long long)f.parts[i];
-  write_array(file, out, "int[] primvars:groom_id", templates, kAppendInt, "uniform");
+  write_array(file, out, "int[] primvars:groom_group_id", templates, kAppendInt, "uniform");
   write_array(file, out, "int64[] primvars:plume_id", ids, kAppendInt, "uniform");
   write_array(file, out, "int64[] primvars:feather_id", ids, kAppendInt, "uniform");
   write_array(file, out, "int[] primvars:feather_part", parts, kAppendInt, "uniform");

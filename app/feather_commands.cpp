@@ -8,6 +8,7 @@
 #include "app/feather_preview.h"
 #include "app/progress.h"
 #include "app/run_outputs.h"
+#include "check/vanes.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "io/feather_writers.h"
@@ -117,6 +118,9 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
                                                 args.preview_guides ? &result.stems : nullptr, feather_style(preview_size)));
       summary.wrote(previews_output, preview);
     }
+    if (result.feathers.layering.unresolved > 0)
+      std::fprintf(stderr, "plume: warning: frame %d: %lld feathers could not be turned clear of the feathers below them (shrunk toward their roots)\n",
+                   frame, (long long)result.feathers.layering.unresolved);
     progress.frame_done(frame);
   }
   progress.finish();
@@ -180,6 +184,26 @@ bool is_feather_check(const std::string &path, const std::string &groom_path) {
   return is_vane_mesh_file(path) || text.find("primvars:feather_id") != std::string::npos;
 }
 
+namespace {
+
+/// Per triangle of a vane mesh read back: its feather's id (from its group's name feather_<id>, or
+/// the group's index for a mesh from elsewhere).
+std::vector<uint64_t> vane_feather_ids(const Mesh &mesh) {
+  std::vector<uint64_t> group_ids(mesh.group_names.size());
+  for (size_t g = 0; g < group_ids.size(); ++g) {
+    const std::string &name = mesh.group_names[g];
+    group_ids[g] = g;
+    if (name.rfind("feather_", 0) == 0 && name.size() > 8 &&
+        name.find_first_not_of("0123456789", 8) == std::string::npos)
+      group_ids[g] = std::stoull(name.substr(8));
+  }
+  std::vector<uint64_t> ids(mesh.triangle_count());
+  for (size_t t = 0; t < ids.size(); ++t) ids[t] = group_ids[size_t(mesh.triangle_groups[t])];
+  return ids;
+}
+
+}  // namespace
+
 int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,
                       std::optional<int> frame, float margin, bool strict, bool json) {
   Mesh skin;
@@ -203,11 +227,13 @@ int run_feather_check(const std::string &path, const std::string &mesh_path, con
   std::vector<bool> first;
   const bool vanes = is_vane_mesh_file(path) || io::detail::extension_of(path) == ".obj";
   size_t curve_count = 0, triangle_count = 0;
+  check::VaneCheckReport meets;
   if (vanes) {
     const Mesh mesh = io::read_vane_mesh(path);
     points = mesh.positions;
     first.assign(points.size(), false);
     triangle_count = mesh.triangle_count();
+    meets = check::check_vanes(mesh.positions, mesh.triangles, vane_feather_ids(mesh));
   } else {
     const StrandSet curves = io::read_strands(path);
     points = curves.positions;
@@ -223,7 +249,8 @@ int run_feather_check(const std::string &path, const std::string &mesh_path, con
     if (d < (first[size_t(v)] ? 0.0f : margin) - eps) ++below;
     deepest = std::min(deepest, d);
   }
-  const int exit_code = strict && below > 0 ? kExitViolations : 0;
+  const bool meet = meets.feather_pairs > 0;
+  const int exit_code = strict && (below > 0 || meet) ? kExitViolations : 0;
   if (json) {
     auto quote = [](const std::string &text) {
       std::string out = "\"";
@@ -243,11 +270,21 @@ int run_feather_check(const std::string &path, const std::string &mesh_path, con
                 vanes ? "vane mesh" : "feather curves", quote(skin_label).c_str(), curve_count, points.size());
     std::printf("\"inside_skin\": {\"points\": %zu, \"margin\": %.9g, \"deepest\": %.9g}, ", below, double(margin),
                 double(deepest));
-    if (below > 0)
-      std::printf("\"violations\": [\"%zu points below the skin\"], ", below);
-    else
-      std::printf("\"violations\": [], ");
-    std::printf("\"clean\": %s, \"strict\": %s, \"exit_code\": %d}\n", below == 0 ? "true" : "false",
+    if (vanes) {
+      std::printf("\"feathers\": %zu, \"vane_pairs\": {\"feather_pairs\": %lld, \"intersecting_triangle_pairs\": %lld, "
+                  "\"touching_triangle_pairs\": %lld, \"triangle_pairs_tested\": %lld, \"thickness\": %.9g, "
+                  "\"examples\": [",
+                  meets.feathers, (long long)meets.feather_pairs, (long long)meets.intersecting_triangle_pairs,
+                  (long long)meets.touching_triangle_pairs, (long long)meets.triangle_pairs_tested, meets.thickness);
+      for (size_t e = 0; e < meets.examples.size(); ++e)
+        std::printf("%s[%llu, %llu]", e ? ", " : "", (unsigned long long)meets.examples[e].a,
+                    (unsigned long long)meets.examples[e].b);
+      std::printf("]}, ");
+    }
+    std::printf("\"violations\": [");
+    if (below > 0) std::printf("\"%zu points below the skin\"%s", below, meet ? ", " : "");
+    if (meet) std::printf("\"%lld feather pairs meet\"", (long long)meets.feather_pairs);
+    std::printf("], \"clean\": %s, \"strict\": %s, \"exit_code\": %d}\n", below == 0 && !meet ? "true" : "false",
                 strict ? "true" : "false", exit_code);
     return exit_code;
   }
@@ -258,8 +295,17 @@ int run_feather_check(const std::string &path, const std::string &mesh_path, con
     std::printf("%s: feather curves, %zu curves, %zu points, against %s\n", path.c_str(), curve_count, points.size(),
                 skin_label.c_str());
   std::printf("  points below the skin (margin %g): %zu (deepest %g)\n", double(margin), below, double(deepest));
-  std::printf("  feather against feather: not judged by this check\n");
-  std::printf("  %s\n", below == 0 ? "clean" : "VIOLATIONS");
+  if (vanes) {
+    std::printf("  feather pairs whose vanes meet: %lld of %zu feathers (%lld triangle pairs intersect, %lld touch "
+                "within %g; %lld tested)\n",
+                (long long)meets.feather_pairs, meets.feathers, (long long)meets.intersecting_triangle_pairs,
+                (long long)meets.touching_triangle_pairs, meets.thickness, (long long)meets.triangle_pairs_tested);
+    for (const check::VanePair &pair : meets.examples)
+      std::printf("    feathers %llu and %llu\n", (unsigned long long)pair.a, (unsigned long long)pair.b);
+  } else {
+    std::printf("  feather against feather: judged on vane meshes\n");
+  }
+  std::printf("  %s\n", below == 0 && !meet ? "clean" : "VIOLATIONS");
   return exit_code;
 }
 

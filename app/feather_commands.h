@@ -55,7 +55,8 @@ void print_vane_mesh_info(const std::string &path);
 /// the emitter of `groom_path` posed at `frame`, default the groom's first): every point or vertex
 /// below the skin (signed distance below margin - eps, eps = 1e-5 x the emitter's bounding-box
 /// diagonal, as for strands; a curve's first point below -eps). Feather against feather is not
-/// judged here. With `json`, the report is one JSON object: file, kind ("feather curves" or "vane
+/// judged on curves; on vane meshes, every pair of feathers whose vanes intersect or touch
+/// (check/vanes.h) is a violation. With `json`, the report is one JSON object: file, kind ("feather curves" or "vane
 /// mesh"), mesh, curves, points, inside_skin {points, margin, deepest}, violations, clean, strict,
 /// exit_code. Returns the exit code (kExitViolations under `strict` when any point is below).
 int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,

@@ -442,7 +442,8 @@ void KeyFeatherField::weights(const SurfacePoint &point, std::span<float> r_weig
 }
 
 Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, Follicles follicles)
-    : detail_(desc.detail), lift_(desc.lift), clearance_(desc.clearance), falloff_(desc.falloff) {
+    : detail_(desc.detail), lift_(desc.lift), clearance_(desc.clearance), falloff_(desc.falloff), layers_(desc.layers) {
+  layering_.offset = desc.layer_offset;
   if (stems.size() == 0) throw InputError(desc.loc, "feathers: the guides hold no stems");
   if (desc.key_feathers.empty()) throw InputError(desc.loc, "feathers.key_feathers: expected at least one key feather");
   points_ = std::move(follicles.points);
@@ -573,6 +574,14 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
     const Eigen::Vector3f shaft = base_frames_[i].toRotationMatrix().col(2);
     rest_first_[i] = unit_or(blend_stems(rest_stems, i, 0.5f * step), shaft);
   }
+
+  // The layer order, from which feather covers which at rest.
+  if (layers_ && n > 0) {
+    const MeshQuery rest_query(rest_mesh);
+    CoatFrame rest;
+    grow_feathers(rest_mesh, rest_query, stems.strands, rest, nullptr);
+    order_ = layer_order_from_coverage(rest, ranges());
+  }
 }
 
 void Coat::bind_stems(const Mesh &rest_mesh, const Guides &stems) {
@@ -637,6 +646,13 @@ Eigen::Vector3f Coat::blend_stems(const StemFrame &frames, size_t i, float z) co
 
 void Coat::grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
                 const skin::SkinGrid *skin_grid) const {
+  grow_feathers(posed, query, stems, r_frame, skin_grid);
+  r_frame.layering = {};
+  if (layers_ && !order_.bottom_up.empty()) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame);
+}
+
+void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
+                         const skin::SkinGrid *skin_grid) const {
   if (stems.offsets != stem_offsets_)
     throw InputError("feathers: the guide stems of this frame (" + std::to_string(stems.strand_count()) +
                      " stems, " + std::to_string(stems.point_count()) +

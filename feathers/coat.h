@@ -12,6 +12,7 @@
 
 #include "feathers/build.h"
 #include "feathers/feather.h"
+#include "feathers/layering.h"
 #include "groom/feather_desc.h"
 #include "groom/feather_frame.h"
 #include "groom/guides.h"
@@ -78,6 +79,8 @@ struct CoatFrame {
   std::vector<SurfaceFrame> root_frames;
   std::vector<float> lifts;
   std::vector<float> scales;
+  /// What keeping the feathers apart did this frame (zeros when the coat has no layers).
+  LayeringStats layering;
 };
 
 /// A coat bound to its rest skin and guide stems. Bind once; grow() every frame (const, parallel,
@@ -113,7 +116,15 @@ class Coat {
   void grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
             const skin::SkinGrid *skin_grid = nullptr) const;
 
+  /// The layer order frozen at binding (empty when the coat has no layers).
+  const LayerOrder &layer_order() const { return order_; }
+  /// Where each feather's output lies in a frame.
+  FeatherRanges ranges() const { return {first_point_, first_vertex_, first_triangle_}; }
+
  private:
+  /// grow() without keeping feathers apart.
+  void grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
+                     const skin::SkinGrid *skin_grid) const;
   struct Stem {
     int32_t guide = -1;
     float weight = 0.0f;
@@ -145,6 +156,9 @@ class Coat {
   /// lift, the simulation) turn the feather's base frame with them.
   std::vector<Eigen::Vector3f> rest_first_;
   float falloff_ = 2.0f;
+  bool layers_ = true;
+  LayeringOptions layering_;
+  LayerOrder order_;
   // Output layout, from the shapes and the detail: per feather its first curve, point, vane vertex
   // and vane triangle (size() + 1 entries each), and the curves' offsets.
   std::vector<int64_t> first_curve_, first_point_, first_vertex_, first_triangle_;

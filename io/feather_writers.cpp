@@ -378,8 +378,20 @@ Mesh read_vanes_usda(const std::string &path) {
     at += 3;
   }
   if (at != indices.size()) throw InputError(FileLoc{path}, "faceVertexIndices: expected 3 per face, got more");
+  // Each feather's triangles as a group named feather_<id> (as the OBJ writer names them).
   mesh.group_names = {"default"};
   mesh.triangle_groups.assign(mesh.triangles.size(), 0);
+  if (array_start(body, "int64[] primvars:feather_id") != std::string::npos) {
+    const std::vector<double> ids = array("int64[] primvars:feather_id");
+    if (ids.size() != mesh.triangles.size())
+      throw InputError(FileLoc{path}, "primvars:feather_id: expected one id per face (" +
+                                          std::to_string(mesh.triangles.size()) + "), got " + std::to_string(ids.size()));
+    mesh.group_names.clear();
+    for (size_t f = 0; f < ids.size(); ++f) {
+      if (f == 0 || ids[f] != ids[f - 1]) mesh.group_names.push_back("feather_" + std::to_string((long long)ids[f]));
+      mesh.triangle_groups[f] = int(mesh.group_names.size()) - 1;
+    }
+  }
   mesh.validate(path);
   mesh.compute_normals();
   return mesh;

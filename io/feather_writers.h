@@ -47,7 +47,9 @@ void write_vane_mesh(const std::string &path, const VaneMesh &vanes, const Feath
 
 /// Reads the points and triangles of a vane mesh as write_vane_mesh writes it (`.usda`: the first
 /// Mesh prim's points, or their first time sample, faceVertexCounts of 3 and faceVertexIndices;
-/// `.obj`: as read_obj_mesh). Throws InputError "file:line: ..." for anything else.
+/// `.obj`: as read_obj_mesh). Each feather's triangles form a group named feather_<id> (the OBJ's
+/// groups; the `.usda`'s primvars:feather_id, when present). Throws InputError "file:line: ..." for
+/// anything else.
 Mesh read_vane_mesh(const std::string &path);
 
 }  // namespace plume::io

@@ -17,29 +17,10 @@ namespace plume::io {
 namespace {
 
 using detail::append_number;
+using detail::append_string_literal;
+using detail::append_tuple;
 using detail::flush_block_if_full;
 
-void append_string_literal(std::string &out, std::string_view text) {
-  out += '"';
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += c;
-  }
-  out += '"';
-}
-
-void append_tuple(std::string &out, const float *values, int n) {
-  out += '(';
-  for (int k = 0; k < n; ++k) {
-    if (k > 0) out += ", ";
-    append_number(out, values[k]);
-  }
-  out += ')';
-}
 
 /// The layer header: doc, default prim, units, up axis and the frame's time code.
 std::string layer_header(const FeatherWriteOptions &options) {

@@ -493,27 +493,6 @@ class UsdaReader {
 // ---------------------------------------------------------------------------------------------
 // Writing
 
-void append_string_literal(std::string &out, std::string_view text) {
-  out += '"';
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += c;
-  }
-  out += '"';
-}
-
-void append_tuple(std::string &out, const float *values, int n) {
-  out += '(';
-  for (int k = 0; k < n; ++k) {
-    if (k > 0) out += ", ";
-    append_number(out, values[k]);
-  }
-  out += ')';
-}
 
 }  // namespace
 

@@ -11,19 +11,8 @@ namespace plume::io {
 namespace {
 
 namespace fs = std::filesystem;
+using detail::append_string_literal;
 
-void append_string_literal(std::string &out, const std::string &text) {
-  out += '"';
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += c;
-  }
-  out += '"';
-}
 
 /// `path` relative to `folder`, as a USD asset path ("./name" or "../x/name").
 std::string relative_asset(const std::string &path, const fs::path &folder) {

@@ -178,6 +178,16 @@ Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
 
 Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom), options_(options) {
   rest_mesh_ = io::read_obj_mesh(groom_.emitter_path);
+  if (groom_.width_root < 0.0f || groom_.width_tip < 0.0f) {  // automatic widths: scaled to the emitter
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+    for (const Eigen::Vector3f &p : rest_mesh_.positions) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const float root = rest_mesh_.positions.empty() ? 0.0f : default_width_root_fraction * (hi - lo).norm();
+    if (groom_.width_root < 0.0f) groom_.width_root = root;
+    if (groom_.width_tip < 0.0f) groom_.width_tip = 0.25f * root;
+  }
   const MeshQuery rest_query(rest_mesh_);
   guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
   if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");

@@ -56,6 +56,10 @@ struct RootSettings {
 /// The most guides a root may blend (InterpolationSettings::k): growth keeps them in fixed slots.
 inline constexpr int max_guides_per_root = 16;
 
+/// The default strand width at the root as a fraction of the rest emitter's bounding-box diagonal
+/// (Sintel's head and shoulders, 62 units across, get 0.031; the tip's default is a quarter of it).
+inline constexpr float default_width_root_fraction = 5e-4f;
+
 /// The default skin margin as a fraction of the rest guides' median segment length (no absolute unit:
 /// a groom modelled in metres or millimetres behaves like one in centimetres).
 inline constexpr float default_margin_fraction = 0.05f;
@@ -102,8 +106,11 @@ struct GroomDesc {
   FileLoc guides_loc;
   RootSettings roots;
   int points_per_strand = 32;
-  float width_root = 0.02f;
-  float width_tip = 0.005f;
+  /// Strand widths (diameters) at the root and the tip, scene units; negative (the default):
+  /// default_width_root_fraction of the rest emitter's bounding-box diagonal at the root and a
+  /// quarter of that at the tip, so that the groom's scale does not matter.
+  float width_root = -1.0f;
+  float width_tip = -1.0f;
   InterpolationSettings interpolation;
   PartingSettings partings;
   std::vector<EffectDesc> effects;

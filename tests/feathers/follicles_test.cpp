@@ -1,12 +1,15 @@
 // Follicles scattered on the bird by density and tract masks: face groups keep them on their tracts,
 // a vertex map thins them where it is low (and keeps a subset of the unthinned follicles, with their
-// ids), a density gives a count proportional to the tracts' area.
+// ids), a density gives a count proportional to the tracts' area. And a key feather placed at a point
+// of the skin weighs most there, its weight falling off continuously.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <set>
 
 #include "feathers/coat.h"
+#include "groom/mesh_query.h"
+#include "io/groom_file.h"
 #include "io/obj_mesh.h"
 
 using namespace plume;
@@ -72,4 +75,58 @@ TEST_CASE("follicles keep to their tracts, thin where a vertex map is low, and f
   dense.density = 20.0;
   const double expected = 20.0 * area_of(rest, tracts);
   CHECK(double(scatter_follicles(rest, dense, {}).size()) == Approx(expected).epsilon(0.02));
+}
+
+TEST_CASE("a key feather at a point weighs most there and falls off continuously along the skin", "[feathers]") {
+  const GroomDesc groom = io::read_groom_file(kBird + "bird.groom.yaml");
+  Mesh rest = io::read_obj_mesh(kBird + "bird.obj");
+  rest.compute_normals();
+  const MeshQuery query(rest);
+  // A flight feather placed on the middle of the back, among the back's contour feathers.
+  FeatherDesc desc = groom.feathers;
+  const int back = rest.group_index("back");
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  int count = 0;
+  for (size_t f = 0; f < rest.triangles.size(); ++f)
+    if (rest.triangle_groups[f] == back) {
+      centre += surface_position(rest, SurfacePoint{int32_t(f), Eigen::Vector3f::Constant(1.0f / 3.0f)});
+      ++count;
+    }
+  centre /= float(count);
+  KeyFeather key;
+  key.template_name = "flight";
+  for (size_t t = 0; t < desc.templates.size(); ++t)
+    if (desc.templates[t].name == "flight") key.template_index = int(t);
+  REQUIRE(key.template_index >= 0);
+  key.point = surface_position(rest, query.closest(centre));
+  key.radius = 1.5f;
+  desc.key_feathers.push_back(key);
+  const KeyFeatherField field(rest, desc);
+  const size_t k = field.key_count() - 1;
+  std::vector<float> w(field.key_count()), previous(field.key_count());
+
+  // At the point it outweighs the back's contour key feather, whose tract holds the point.
+  field.weights(query.closest(key.point), w);
+  CHECK(field.distance(k, query.closest(key.point)) < 1e-3);
+  CHECK(w[k] > 0.4f);
+  CHECK(w[k] == *std::max_element(w.begin(), w.end()));
+  // Along the skin away from it (points 0.02 apart, snapped to the surface): its weight falls, and
+  // every weight changes by at most a bound proportional to the step.
+  const Eigen::Vector3f direction(0.0f, 0.0f, -1.0f);  // toward the tail
+  float last_weight = 2.0f, worst_change = 0.0f;
+  bool first = true;
+  for (int i = 0; i <= 300; ++i) {
+    const SurfacePoint sp = query.closest(key.point + 0.02f * float(i) * direction);
+    field.weights(sp, w);
+    if (!first)
+      for (size_t j = 0; j < w.size(); ++j) worst_change = std::max(worst_change, std::abs(w[j] - previous[j]));
+    if (i % 25 == 0) {
+      CHECK(w[k] <= last_weight + 1e-4f);
+      last_weight = w[k];
+    }
+    previous = w;
+    first = false;
+  }
+  CHECK(last_weight < 0.05f);
+  CHECK(worst_change < 0.05f);
 }

@@ -1,16 +1,20 @@
 // Follicles scattered on the bird by density and tract masks: face groups keep them on their tracts,
 // a vertex map thins them where it is low (and keeps a subset of the unthinned follicles, with their
-// ids), a density gives a count proportional to the tracts' area. And a key feather placed at a point
-// of the skin weighs most there, its weight falling off continuously.
+// ids), a density gives a count proportional to the tracts' area. A key feather placed at a point of
+// the skin weighs most there, its weight falling off continuously. Each feather's seeded variation
+// comes from its stable id, within the groom's bounds.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "feathers/coat.h"
+#include "groom/guides.h"
 #include "groom/mesh_query.h"
 #include "io/groom_file.h"
 #include "io/obj_mesh.h"
+#include "io/strand_file.h"
 
 using namespace plume;
 using namespace plume::feathers;
@@ -129,4 +133,61 @@ TEST_CASE("a key feather at a point weighs most there and falls off continuously
   }
   CHECK(last_weight < 0.05f);
   CHECK(worst_change < 0.05f);
+}
+
+TEST_CASE("each feather's variation is seeded by its stable id, within the groom's bounds", "[feathers]") {
+  const GroomDesc groom = io::read_groom_file(kBird + "bird.groom.yaml");
+  const Mesh rest = io::read_obj_mesh(kBird + "bird.obj");
+  const MeshQuery query(rest);
+  const Guides stems = bind_guides(query, io::read_strands(kBird + "stems.obj"), "stems.obj");
+  FeatherDesc plain = groom.feathers;
+  plain.layers = false;
+  plain.variation = {};
+  FeatherDesc varied = plain;
+  varied.variation.length = 0.12f;
+  varied.variation.barb_angle = 4.0f;
+  varied.variation.stage = 0.3f;
+  varied.variation.seed = 3;
+  const Follicles few = scatter_follicles(rest, plain.follicles, {}, 300);
+  const Follicles more = scatter_follicles(rest, plain.follicles, {}, 600);
+  const Coat base(rest, stems, plain, few), coat(rest, stems, varied, few), larger(rest, stems, varied, more);
+  std::map<uint64_t, size_t> in_larger;
+  for (size_t i = 0; i < larger.size(); ++i) in_larger[larger.ids()[i]] = i;
+
+  double least = 2.0, most = 0.0, least_angle = 0.0, most_angle = 0.0;
+  size_t grown_less = 0;
+  for (size_t i = 0; i < coat.size(); ++i) {
+    INFO("feather " << coat.ids()[i]);
+    const FeatherTemplate &a = base.shapes()[i].main, &b = coat.shapes()[i].main;
+    // The stage is lowered by up to 0.3, to 0.7 at least: the lengths are the adult's from 0.5 on,
+    // and the rachis's curvature grows to the adult's over 0.8 to 1 (feathers/growth.h).
+    if (a.curvature_front != 0.0f) {
+      REQUIRE(std::abs(b.curvature_front) <= std::abs(a.curvature_front) * (1.0f + 1e-5f));
+      grown_less += std::abs(b.curvature_front) < 0.99f * std::abs(a.curvature_front);
+    }
+    const double scale = double(b.calamus_length + b.rachis_length) / double(a.calamus_length + a.rachis_length);
+    least = std::min(least, scale);
+    most = std::max(most, scale);
+    REQUIRE(scale >= 0.88 - 1e-5);
+    REQUIRE(scale <= 1.12 + 1e-5);
+    const double angle = double(b.left.angle_base - a.left.angle_base);
+    if (a.left.angle_base > 4.0f && a.left.angle_base < 176.0f) {
+      REQUIRE(std::abs(angle) <= 4.0 + 1e-4);
+      REQUIRE(double(b.right.angle_tip - a.right.angle_tip) == Approx(angle).margin(1e-4));
+      least_angle = std::min(least_angle, angle);
+      most_angle = std::max(most_angle, angle);
+    }
+    // The same id in a coat of more follicles gets the same feather.
+    const auto found = in_larger.find(coat.ids()[i]);
+    REQUIRE(found != in_larger.end());
+    const FeatherTemplate &c = larger.shapes()[found->second].main;
+    CHECK(c.rachis_length == b.rachis_length);
+    CHECK(c.left.angle_base == b.left.angle_base);
+  }
+  // The bounds are used, both ways.
+  CHECK(least < 0.93);
+  CHECK(most > 1.07);
+  CHECK(least_angle < -2.0);
+  CHECK(most_angle > 2.0);
+  CHECK(grown_less > coat.size() / 10);
 }

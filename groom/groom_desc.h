@@ -56,12 +56,18 @@ struct RootSettings {
 /// The most guides a root may blend (InterpolationSettings::k): growth keeps them in fixed slots.
 inline constexpr int max_guides_per_root = 16;
 
+/// The default skin margin as a fraction of the rest guides' median segment length (no absolute unit:
+/// a groom modelled in metres or millimetres behaves like one in centimetres).
+inline constexpr float default_margin_fraction = 0.05f;
+
 struct InterpolationSettings {
   enum class Method { streamline, fur, linear } method = Method::streamline;
   int k = 4;                   // guides per root, in [1, max_guides_per_root]
   double radius = 0.0;         // 0: unlimited
   float falloff = 2.0f;        // weight ~ 1 / d^falloff
-  float skin_margin = 0.02f;   // scene units kept between strands and the skin
+  /// Scene units kept between strands and the skin; negative (the default): default_margin_fraction
+  /// of the rest guides' median segment length, so that the groom's scale does not matter.
+  float skin_margin = -1.0f;
   int lookahead_segments = 3;  // streamline: how far ahead on a guide the closest point may move per step
   FileLoc loc;
 };

@@ -41,8 +41,28 @@ struct Candidate {
   float score;     // factor / distance^falloff; +inf for an exact hit
 };
 
+/// The largest turn (radians) a guide is carried by from its root's normal to a root's normal: 30 degrees.
+constexpr float max_carry_turn = 0.5235988f;
+
 float falloff_pow(float distance, float falloff) {
   return falloff == 2.0f ? distance * distance : std::pow(distance, falloff);
+}
+
+/// The median length of the strands' segments of non-zero length (the groom's length unit); a
+/// thousandth of the mesh's extent when no segment has a length.
+float median_segment(const StrandSet &strands, const Eigen::Vector3f &mesh_extent) {
+  std::vector<float> lengths;
+  lengths.reserve(strands.positions.size());
+  for (size_t s = 0; s < strands.strand_count(); ++s) {
+    const std::span<const Eigen::Vector3f> points = strands.points(s);
+    for (size_t j = 0; j + 1 < points.size(); ++j) {
+      const float length = (points[j + 1] - points[j]).norm();
+      if (length > 0.0f) lengths.push_back(length);
+    }
+  }
+  if (lengths.empty()) return std::max(1e-3f * mesh_extent.norm(), 1e-30f);
+  std::nth_element(lengths.begin(), lengths.begin() + ptrdiff_t(lengths.size() / 2), lengths.end());
+  return lengths[lengths.size() / 2];
 }
 
 }  // namespace
@@ -103,6 +123,8 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
   binding.k = k;
   binding.settings = settings;
   binding.guide_roots = guides.roots;
+  binding.skin_margin = settings.skin_margin >= 0.0f ? settings.skin_margin
+                                                     : default_margin_fraction * median_segment(guides.strands, hi - lo);
   const size_t root_count = roots.size();
   binding.guide_ids.assign(root_count * size_t(k), -1);
   binding.weights.assign(root_count * size_t(k), 0.0f);
@@ -207,9 +229,13 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
         binding.weights[slot] /= total;
         length += binding.weights[slot] * guide_lengths[size_t(g)];
         // Minimal rotation from the guide root's normal to the root's normal, expressed between the
-        // two rest frames so that per-frame carrying does not depend on their tangents.
-        const Eigen::Quaternionf turn =
+        // two rest frames so that per-frame carrying does not depend on their tangents. Its angle is
+        // capped (continuously): where the skin turns sharply between a guide root and the root (an
+        // ear below the scalp's guides), a guide turned whole would stick out of the head.
+        Eigen::Quaternionf turn =
             Eigen::Quaternionf::FromTwoVectors(guide_frames[size_t(g)].col(2), root_frame.basis.col(2));
+        const float angle = Eigen::AngleAxisf(turn).angle();
+        if (angle > max_carry_turn) turn = Eigen::Quaternionf::Identity().slerp(max_carry_turn / angle, turn);
         const Eigen::Matrix3f local = root_frame.basis.transpose() * turn.toRotationMatrix() * guide_frames[size_t(g)];
         binding.rest_rotations[slot] = Eigen::Quaternionf(local).normalized();
       }

@@ -667,9 +667,9 @@ struct StreamlineStrand {
 
   StreamlineStrand(const GrowScene &scene, GrowStats &counts)
       : scene(scene), counts(counts),
-        guard(scene.query, scene.binding.settings.skin_margin, scene.scale, scene.skin_grid) {}
+        guard(scene.query, scene.binding.skin_margin, scene.scale, scene.skin_grid) {}
 
-  float skin_margin() const { return scene.binding.settings.skin_margin; }
+  float skin_margin() const { return scene.binding.skin_margin; }
   bool near_a_guide(float distance) const { return distance > 0.0f && distance < 0.5f * step; }
 
   Eigen::Vector3f evaluate(const Eigen::Vector3f &p, float arc, const Eigen::Vector3f &fallback, float *r_nearest,
@@ -1111,9 +1111,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const int k = binding.k;
   const float scale = mesh_scale(mesh);
   const bool streamline = settings.method == InterpolationSettings::Method::streamline;
+  // Every method keeps its points out of the skin, through one grid of the skin per frame.
   std::unique_ptr<SkinGrid> own_skin_grid;
-  if (streamline && !shared_skin_grid) own_skin_grid = std::make_unique<SkinGrid>(mesh, query);
-  const SkinGrid *const skin_grid = streamline ? (shared_skin_grid ? shared_skin_grid : own_skin_grid.get()) : nullptr;
+  if (!shared_skin_grid) own_skin_grid = std::make_unique<SkinGrid>(mesh, query);
+  const SkinGrid *const skin_grid = shared_skin_grid ? shared_skin_grid : own_skin_grid.get();
   const std::vector<float> clearances = streamline ? guide_clearances(guides, binding.guide_roots, query, *skin_grid) : std::vector<float>();
 
   r_strands.resize_uniform(roots.size(), n, options.with_widths, StrandSet::Fill::unset);  // all written below
@@ -1154,19 +1155,6 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         }
         Eigen::Vector3f *points = r_strands.positions.data() + r * n;
 
-        if (settings.method == InterpolationSettings::Method::linear) {
-          // Root-relative offsets of the resampled guides, blended as they are (no rotation).
-          for (int i = 0; i < n; ++i) {
-            Eigen::Vector3f p = root_frame.origin;
-            for (int s = 0; s < used; ++s) {
-              const size_t g = size_t(slots[s].guide);
-              p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
-            }
-            points[i] = p;
-          }
-          continue;
-        }
-
         // The root: on the skin, lifted along its normal by the height of the guides' own first points
         // above their surface points (carried), never below the skin. Only the height: a sideways part
         // would move the root off its place on the skin, and where the skin curves (round an ear) into it.
@@ -1177,8 +1165,8 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         }
         const float height = std::max(lift.dot(normal), 0.0f);
         points[0] = root_frame.origin + height * normal;
-        if (height > 1e-6f * scale && skin_grid) {
-          // Streamline keeps strands out of the skin. Where the skin folds (a thin ear whose vertex
+        if (height > 1e-6f * scale) {
+          // Strands stay out of the skin. Where the skin folds (a thin ear whose vertex
           // normals average its two sides) the normal can lead behind another part of the skin: then the
           // root stays on the skin. A lift within the skin guard's tolerance (a millionth of the mesh
           // size: guide roots on the skin up to rounding) cannot reach another part of it and needs no
@@ -1188,8 +1176,29 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             points[0] = root_frame.origin;
         }
 
+        if (settings.method == InterpolationSettings::Method::linear) {
+          // Root-relative offsets of the resampled guides, blended as they are (no rotation), after
+          // the root point the other methods start from; a point that falls inside the skin is moved
+          // out to the margin.
+          SkinGuard guard(query, binding.skin_margin, scale, skin_grid);
+          guard.start_anywhere(points[0]);
+          for (int i = 1; i < n; ++i) {
+            Eigen::Vector3f p = root_frame.origin;
+            for (int s = 0; s < used; ++s) {
+              const size_t g = size_t(slots[s].guide);
+              p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
+            }
+            guard.keep_out(p);
+            points[i] = p;
+          }
+          continue;
+        }
+
         if (settings.method == InterpolationSettings::Method::fur) {
-          // Segment j: weighted length and weighted direction of the carried guides' segments j.
+          // Segment j: weighted length and weighted direction of the carried guides' segments j; a
+          // point that falls inside the skin is moved out to the margin, and the strand goes on from there.
+          SkinGuard guard(query, binding.skin_margin, scale, skin_grid);
+          guard.start_anywhere(points[0]);
           Eigen::Vector3f direction = normal;
           for (int i = 0; i + 1 < n; ++i) {
             Eigen::Vector3f blend = Eigen::Vector3f::Zero();
@@ -1201,6 +1210,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             }
             direction = unit_or(blend, direction);
             points[i + 1] = points[i] + length * direction;
+            guard.keep_out(points[i + 1]);
           }
           continue;
         }

@@ -51,6 +51,9 @@ struct Binding {
   /// #guides surface points of the guide roots (copied from Guides::roots), for the per-frame frames.
   std::vector<SurfacePoint> guide_roots;
   InterpolationSettings settings;
+  /// The skin margin growth keeps (scene units): settings.skin_margin, or when that is negative
+  /// (automatic) default_margin_fraction x the rest guides' median segment length.
+  float skin_margin = 0.0f;
 
   size_t root_count() const { return lengths.size(); }
 };
@@ -95,8 +98,7 @@ struct GrowOptions {
 
 /// Grows every root for one frame with binding.settings.method:
 /// - fur: each guide carried to the root by its rotation, segment lengths and directions blended;
-/// - linear: root-relative offsets of the guides blended, no rotation (a baseline: it crosses and
-///   enters the skin);
+/// - linear: root-relative offsets of the guides blended, no rotation (a baseline: it crosses);
 /// - streamline: streamline-ratio growth, skin push-out after each step.
 /// `mesh` is the emitter posed at this frame (normals computed) and `query` is built on it; `guides`
 /// holds the guide strands at this frame (same count and order as at binding; any point counts >= 2).
@@ -106,8 +108,10 @@ struct GrowOptions {
 /// `r_clearance` (may be null): streamline growth fills it with one lower bound per output point of
 /// that point's signed distance to the skin (what the skin push-out proved, at no extra cost), so
 /// later passes that move points by less than that need no query; fur and linear leave it empty.
+/// Every method keeps the points after the root out of the skin, at least binding.skin_margin
+/// outside (fur and linear move a point that falls inside out to the margin).
 /// `skin_grid` (may be null): a SkinGrid built on `mesh` and `query` this frame, to share with the
-/// effects stack; when null, streamline growth builds its own.
+/// effects stack; when null, growth builds its own.
 void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, const Roots &roots,
           const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands,
           std::vector<float> *r_clearance = nullptr, const SkinGrid *skin_grid = nullptr);

@@ -664,6 +664,7 @@ TEST_CASE("on strands combed down along the skin, the skin pass's proofs change 
   const Guides guides = bind_guides(query, test::combed_guides(mesh, scatter_roots(mesh, 120, 11)), "combed");
   const Roots roots = scatter_roots(mesh, 3000, 3);
   InterpolationSettings settings;
+  settings.skin_margin = 0.02f;  // a band the combed strands lie in
   const interp::Binding binding = interp::bind(mesh, guides, roots, settings);
   std::vector<int32_t> nearest(roots.size());
   for (size_t i = 0; i < roots.size(); ++i) nearest[i] = binding.guide_ids[i * size_t(binding.k)];
@@ -673,7 +674,7 @@ TEST_CASE("on strands combed down along the skin, the skin pass's proofs change 
   interp::grow(binding, mesh, query, roots, guides.strands, options, grown, &clearance);
   const EffectStack stack(full_stack(1.0f), mesh, roots, guides, nearest);
   const SkinPassComparison pass =
-      compare_skin_pass(stack, query, guides.strands, settings.skin_margin, grown, clearance, 2.0f);
+      compare_skin_pass(stack, query, guides.strands, binding.skin_margin, grown, clearance, 2.0f);
   CHECK(pass.near_skin > 3000);  // 6756 of 93000 points
   CHECK(pass.largest_difference <= 1e-5f);
 }
@@ -726,7 +727,7 @@ TEST_CASE("on Sintel's open head, grooms/effects leaves no point behind the skin
   std::vector<float> clearance;
   interp::grow(binding, scene.mesh, *scene.query, scene.roots, scene.guides.strands, options, strands, &clearance);
   const EffectStack stack(scene.groom.effects, scene.mesh, scene.roots, scene.guides, nearest);
-  stack.apply(scene.mesh, *scene.query, scene.guides.strands, scene.groom.interpolation.skin_margin, strands, clearance);
+  stack.apply(scene.mesh, *scene.query, scene.guides.strands, binding.skin_margin, strands, clearance);
   Eigen::Vector3f lo = scene.mesh.positions[0], hi = lo;
   for (const Eigen::Vector3f &p : scene.mesh.positions) {
     lo = lo.cwiseMin(p);

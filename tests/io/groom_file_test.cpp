@@ -249,7 +249,7 @@ TEST_CASE("a minimal groom file gets the documented defaults", "[io]") {
   CHECK(g.interpolation.k == 4);
   CHECK(g.interpolation.radius == 0.0);
   CHECK(g.interpolation.falloff == 2.0f);
-  CHECK(g.interpolation.skin_margin == 0.02f);
+  CHECK(g.interpolation.skin_margin < 0.0f);  // automatic: scaled to the guides
   CHECK(g.interpolation.lookahead_segments == 3);
   CHECK(g.partings.zone_source == plume::PartingSettings::ZoneSource::none);
   CHECK(g.partings.lines.empty());

@@ -1181,7 +1181,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           // the root point the other methods start from; a point that falls inside the skin is moved
           // out to the margin.
           SkinGuard guard(query, binding.skin_margin, scale, skin_grid);
-          guard.start_anywhere(points[0]);
+          guard.start(points[0], roots.points[size_t(r)].triangle);  // on the skin or lifted above it
           for (int i = 1; i < n; ++i) {
             Eigen::Vector3f p = root_frame.origin;
             for (int s = 0; s < used; ++s) {
@@ -1198,7 +1198,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           // Segment j: weighted length and weighted direction of the carried guides' segments j; a
           // point that falls inside the skin is moved out to the margin, and the strand goes on from there.
           SkinGuard guard(query, binding.skin_margin, scale, skin_grid);
-          guard.start_anywhere(points[0]);
+          guard.start(points[0], roots.points[size_t(r)].triangle);  // on the skin or lifted above it
           Eigen::Vector3f direction = normal;
           for (int i = 0; i + 1 < n; ++i) {
             Eigen::Vector3f blend = Eigen::Vector3f::Zero();

@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <mutex>
 #include <set>
+#include <thread>
 
 #include "feathers/coat.h"
 
@@ -333,18 +335,45 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
     level[size_t(i)] = l;
     levels = std::max(levels, l + 1);
   }
-  std::vector<std::vector<int32_t>> waves(static_cast<size_t>(levels));
-  for (const int32_t i : order.bottom_up) waves[size_t(level[size_t(i)])].push_back(i);
   stats.waves = levels;
 
-  // Each feather's vanes once it is placed (its wave done): what the feathers above it keep clear of.
+  // A feather is placed as soon as every lower feather it may touch is (not wave by wave: a wave's
+  // end made every thread wait for the slowest feather of it, and the bird has hundreds of waves).
+  // It reads only those feathers' final vanes, so the result is the same for any schedule.
+  std::vector<std::vector<int32_t>> higher(n);
+  std::vector<int32_t> waiting(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    for (const int32_t j : near[i])
+      if (order.rank[size_t(j)] < order.rank[i]) {
+        ++waiting[i];
+        higher[size_t(j)].push_back(int32_t(i));
+      }
+  std::vector<int32_t> ready;
+  for (auto it = order.bottom_up.rbegin(); it != order.bottom_up.rend(); ++it)
+    if (waiting[size_t(*it)] == 0) ready.push_back(*it);
+  std::mutex mutex;  // guards ready, waiting and done
+  size_t done = 0;
+  // Each feather's vanes once it is placed: what the feathers above it keep clear of.
   std::vector<FeatherVanes> placed(n);
   int64_t lifted = 0, unresolved = 0;
   float largest = 0.0f;
-  for (const std::vector<int32_t> &wave : waves) {
-#pragma omp parallel for schedule(dynamic, 4) reduction(+ : lifted, unresolved) reduction(max : largest)
-    for (int64_t w = 0; w < int64_t(wave.size()); ++w) {
-      const size_t i = size_t(wave[size_t(w)]);
+#pragma omp parallel reduction(+ : lifted, unresolved) reduction(max : largest)
+  while (true) {
+    int32_t next = -1;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (done == n) break;
+      if (!ready.empty()) {
+        next = ready.back();
+        ready.pop_back();
+      }
+    }
+    if (next < 0) {
+      std::this_thread::yield();
+      continue;
+    }
+    const size_t i = size_t(next);
+    for (int once = 0; once < 1; ++once) {  // `continue` ends the feather
       FeatherVanes &mine = placed[i];
       mine = feather_vanes(r_frame, ranges, i, options.root_disc);
       if (mine.triangles.empty()) continue;
@@ -550,6 +579,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       ++lifted;
       largest = std::max(largest, float(above));
     }
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const int32_t k : higher[i])
+      if (--waiting[size_t(k)] == 0) ready.push_back(k);
+    ++done;
   }
   stats.lifted = lifted;
   stats.unresolved = unresolved;

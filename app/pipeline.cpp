@@ -18,6 +18,7 @@
 #include "interp/interpolate.h"
 #include "partings/parting_field.h"
 #include "skin/skin_grid.h"
+#include "skin/skin_guard.h"
 #include "io/control_section.h"
 #include "io/obj_mesh.h"
 #include "io/point_list.h"
@@ -178,16 +179,10 @@ Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
 
 Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom), options_(options) {
   rest_mesh_ = io::read_obj_mesh(groom_.emitter_path);
-  if (groom_.width_root < 0.0f || groom_.width_tip < 0.0f) {  // automatic widths: scaled to the emitter
-    Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
-    for (const Eigen::Vector3f &p : rest_mesh_.positions) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    const float root = rest_mesh_.positions.empty() ? 0.0f : default_width_root_fraction * (hi - lo).norm();
-    if (groom_.width_root < 0.0f) groom_.width_root = root;
-    if (groom_.width_tip < 0.0f) groom_.width_tip = 0.25f * root;
-  }
+  // Automatic widths: scaled to the emitter.
+  const float auto_root_width = default_width_root_fraction * skin::mesh_scale(rest_mesh_);
+  if (groom_.width_root < 0.0f) groom_.width_root = auto_root_width;
+  if (groom_.width_tip < 0.0f) groom_.width_tip = 0.25f * auto_root_width;
   const MeshQuery rest_query(rest_mesh_);
   guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
   if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");

@@ -48,23 +48,6 @@ float falloff_pow(float distance, float falloff) {
   return falloff == 2.0f ? distance * distance : std::pow(distance, falloff);
 }
 
-/// The median length of the strands' segments of non-zero length (the groom's length unit); a
-/// thousandth of the mesh's extent when no segment has a length.
-float median_segment(const StrandSet &strands, const Eigen::Vector3f &mesh_extent) {
-  std::vector<float> lengths;
-  lengths.reserve(strands.positions.size());
-  for (size_t s = 0; s < strands.strand_count(); ++s) {
-    const std::span<const Eigen::Vector3f> points = strands.points(s);
-    for (size_t j = 0; j + 1 < points.size(); ++j) {
-      const float length = (points[j + 1] - points[j]).norm();
-      if (length > 0.0f) lengths.push_back(length);
-    }
-  }
-  if (lengths.empty()) return std::max(1e-3f * mesh_extent.norm(), 1e-30f);
-  std::nth_element(lengths.begin(), lengths.begin() + ptrdiff_t(lengths.size() / 2), lengths.end());
-  return lengths[lengths.size() / 2];
-}
-
 }  // namespace
 
 Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, const InterpolationSettings &settings,
@@ -123,8 +106,12 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
   binding.k = k;
   binding.settings = settings;
   binding.guide_roots = guides.roots;
-  binding.skin_margin = settings.skin_margin >= 0.0f ? settings.skin_margin
-                                                     : default_margin_fraction * median_segment(guides.strands, hi - lo);
+  if (settings.skin_margin >= 0.0f) {
+    binding.skin_margin = settings.skin_margin;
+  } else {  // automatic: scaled to the guides (to the mesh when no guide segment has a length)
+    const float unit = float(median_segment_length(guides.strands));
+    binding.skin_margin = default_margin_fraction * (unit > 0.0f ? unit : std::max(1e-3f * (hi - lo).norm(), 1e-30f));
+  }
   const size_t root_count = roots.size();
   binding.guide_ids.assign(root_count * size_t(k), -1);
   binding.weights.assign(root_count * size_t(k), 0.0f);

@@ -202,15 +202,18 @@ int skin_samples(const FeatherShape &shape, const Spine &spine, float clearance,
     const FeatherTemplate &f = after ? shape.after : shape.main;
     const Eigen::Vector3f offset = after ? afterfeather_offset(shape.main) : Eigen::Vector3f::Zero();
     const int rows = after ? 3 : kSkinRows;
+    const std::array<std::vector<KeyBarb>, 2> &keys = after ? shape.after_keys : shape.main_keys;
+    std::array<VaneBarbs, 2> barbs = {VaneBarbs(f, keys[0], Vane::left, 0), VaneBarbs(f, keys[1], Vane::right, 0)};
     // The previous row's samples: rachis, then per vane the barb's midpoint and tip.
     std::array<int, 5> below = {calamus, -1, -1, -1, -1};
     for (int r = 0; r < rows; ++r) {
       const float rp = float(r) / float(rows - 1);
-      const Eigen::Vector3f rachis = rachis_point(f, rp) + offset;
+      const BarbAttachment attachment = barb_attachment(f, rp);
+      const Eigen::Vector3f rachis = attachment.point + offset;
       std::array<int, 5> row;
       row[0] = add(rachis, rachis.z(), 0.0f, below[0], -1);
       for (const Vane vane : {Vane::left, Vane::right}) {
-        const Barb barb = build_barb(f, (after ? shape.after_keys : shape.main_keys)[size_t(vane)], vane, rp, -1, 0);
+        const Barb barb = barbs[size_t(vane)](rp, -1, attachment);
         const float extra = kFuzzMargin * barb.plumulaceous * barb.length;
         const Eigen::Vector3f attach = barb.attach + offset;
         const size_t at = 1 + 2 * size_t(vane);

@@ -328,7 +328,17 @@ Barb VaneBarbs::operator()(float rp, int index, const BarbAttachment &attachment
   const VaneDesc &desc = vane == Vane::left ? f.left : f.right;
   const KeyBarbBlend blend = this->blend(rp);
   ControlPolygon polygon = blend.polygon;
-  if (blend.plumulaceous > 0.0f) polygon = lerp_polygons(polygon, mean_plumulaceous_polygon(), blend.plumulaceous);
+  if (blend.plumulaceous > 0.0f) {
+    // lerp_polygons(polygon, mean_plumulaceous_polygon(), plumulaceous), the mean's elevation kept.
+    const int count = std::max(polygon.count, mean_plumulaceous_polygon().count);
+    if (mean_.count != count) {
+      mean_ = mean_plumulaceous_polygon();
+      elevate_to(mean_, count);
+    }
+    elevate_to(polygon, count);
+    for (int i = 0; i < count; ++i)
+      polygon.points[size_t(i)] += blend.plumulaceous * (mean_.points[size_t(i)] - polygon.points[size_t(i)]);
+  }
   // The first vertex at the origin; the end-to-end distance clamped to [0, 1]; then the barb's length.
   const Eigen::Vector3f first = polygon.points[0];
   for (int i = 0; i < polygon.count; ++i) polygon.points[size_t(i)] -= first;

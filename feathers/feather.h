@@ -142,7 +142,7 @@ BarbAttachment barb_attachment(const FeatherTemplate &feather, float rp);
 /// The barbs of one vane built in turn, as build_barb builds them (the same barbs, to the bit), with
 /// the work they share done once: the attachment at rp is passed in (both vanes' barbs there share
 /// it), and the two key barbs' polygons around the last rp, elevated to one degree, are kept for the
-/// next barb, which mostly lies between the same two.
+/// next barb, which mostly lies between the same two (and the mean plumulaceous polygon too).
 class VaneBarbs {
  public:
   /// `feather` and `keys` (the vane's completed key barbs) must outlive this.
@@ -161,6 +161,8 @@ class VaneBarbs {
   uint64_t seed_;
   size_t above_ = 0;  // the key barb above the kept pair (0: none kept)
   ControlPolygon below_, upper_;
+  ControlPolygon mean_;  // the mean plumulaceous polygon, elevated as the last barb needed it
+
 };
 
 }  // namespace plume::feathers

@@ -266,9 +266,13 @@ Lift lift_off_skin(const SkinSample *samples, int count, const Eigen::Vector3f &
   const float rounding = 1e-5f * root.cwiseAbs().maxCoeff();
   // A lower bound of each sample's signed distance at the angle being evaluated.
   std::array<float, kMaxSkinSamples> lower;
+  // Per sample, its closest triangle when last queried, and at this angle (-1: not queried).
+  std::array<int, kMaxSkinSamples> known_triangle, near_triangle;
+  known_triangle.fill(-1);
   // The largest turn the samples ask for at `angle` (negative when they all clear).
   auto evaluate = [&](float angle) {
     const Eigen::Matrix3f turn = Eigen::AngleAxisf(angle, axis).toRotationMatrix();
+    near_triangle.fill(-1);
     float worst = -INFINITY;
     for (int s = 0; s < count; ++s) {
       const float reach = samples[s].point.norm();
@@ -289,8 +293,16 @@ Lift lift_off_skin(const SkinSample *samples, int count, const Eigen::Vector3f &
         }
       }
       const Eigen::Vector3f relative = turn * samples[s].point;
+      // The search starts from the sample's last closest triangle, else its nearby sample's at this
+      // angle, else the follicle's: the nearer the start, the fewer cells searched.
+      const int near = samples[s].near[0];
+      const int start = known_triangle[size_t(s)] >= 0 ? known_triangle[size_t(s)]
+                        : near >= 0 && near_triangle[size_t(near)] >= 0 ? near_triangle[size_t(near)]
+                                                                          : hint;
       SurfacePoint closest;
-      const float distance = grid.signed_distance(root + relative, hint, closest);
+      const float distance = grid.signed_distance(root + relative, start, closest);
+      known_triangle[size_t(s)] = closest.triangle;
+      near_triangle[size_t(s)] = closest.triangle;
       const float rate = std::max(query.side_normal(closest).dot(axis.cross(relative)), kMinimumRate * reach);
       known_distance[size_t(s)] = distance;
       known_at[size_t(s)] = angle;

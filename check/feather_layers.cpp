@@ -80,6 +80,7 @@ VaneOverlaps vane_overlaps(std::span<const Eigen::Vector3f> positions, std::span
   result.median_extent = sorted[sorted.size() / 2];
   const double eps = options.thickness * result.median_extent;
   const double reach = *std::max_element(extents.begin(), extents.end());
+  if (!(reach > 0.0)) return result;  // every vane collapsed onto its base
   const auto in_disc = [&](size_t f, const Eigen::Vector3d &p) {
     return (p - bases[f]).norm() <= options.root_disc * extents[f];
   };
@@ -123,9 +124,9 @@ VaneOverlaps vane_overlaps(std::span<const Eigen::Vector3f> positions, std::span
     for (const int32_t v : vertices[f]) {
       const Eigen::Vector3d p = positions[size_t(v)].cast<double>();
       if (in_disc(f, p)) continue;
-      ++samples;
       const Eigen::Vector3d normal = surface_normal(skin, skin_query.closest(positions[size_t(v)])).cast<double>();
       const Eigen::Vector3d direction = reach * normal;
+      ++samples;
       primitives.clear();
       tree.all_intersected_primitives(Kernel::Segment_3(to_cgal(p), to_cgal(p + direction)),
                                       std::back_inserter(primitives));

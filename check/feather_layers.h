@@ -50,7 +50,8 @@ struct VaneOverlaps {
 /// rule the layer order is built with at rest (a feather covers another's root), taken at every
 /// vertex. `triangles` index `positions`; `triangle_feathers` names each triangle's feather, a
 /// feather's triangles consecutive, its first triangle's first vertex its vane base (as
-/// check_vanes). `skin` is the posed skin `skin_query` was built on. Deterministic for any thread count.
+/// check_vanes). `skin` is the posed skin `skin_query` was built on, its vertex normals computed.
+/// Deterministic for any thread count.
 VaneOverlaps vane_overlaps(std::span<const Eigen::Vector3f> positions, std::span<const Eigen::Vector3i> triangles,
                            std::span<const uint64_t> triangle_feathers, const Mesh &skin, const MeshQuery &skin_query,
                            const OverlapOptions &options = {});

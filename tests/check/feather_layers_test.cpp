@@ -2,10 +2,16 @@
 // planted order violation is found (and not when the order agrees), the skin stops the way out, a
 // swapped pair is an order flip, a planted pop is measured in rachis widths, a rigid move of skin and
 // feathers together is no pop, and shape drift ignores rigid motion but measures a shrunk feather. Every case
-// again at scales 1e-3 and 1e3 (no absolute unit).
+// again at scales 1e-3 and 1e3 (no absolute unit). On random flat coats over a flat skin, the
+// overlaps equal an exact 2-D answer, and violations and flips counted by brute force agree.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <random>
+#include <set>
+#include <unordered_map>
 
 #include "check/feather_layers.h"
 #include "check/feather_motion.h"
@@ -192,4 +198,116 @@ TEST_CASE("shape drift ignores rigid motion and measures a shrunk feather in % o
     CHECK(drift.largest == Approx(0.2 * std::sqrt(0.6 * 0.6 + 0.15 * 0.15)).epsilon(1e-3));
     CHECK(drift.mean == Approx(drift.largest / 2).epsilon(1e-3));
   }
+}
+
+namespace {
+
+/// A flat plane of skin at z = 0, facing +z (its vertex normals exactly +z).
+Mesh plane_skin(float scale) {
+  Mesh mesh;
+  for (const Vector3f &p : {Vector3f(-1000, -1000, 0), Vector3f(1000, -1000, 0), Vector3f(1000, 1000, 0),
+                            Vector3f(-1000, 1000, 0)})
+    mesh.positions.push_back(scale * p);
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  mesh.triangle_groups = {0, 0};
+  mesh.group_names = {"default"};
+  mesh.compute_normals();
+  return mesh;
+}
+
+struct Flat {
+  float x, y, z, length, width;
+};
+
+}  // namespace
+
+TEST_CASE("which feather is over which agrees with an exact 2-D answer on random flat coats", "[check]") {
+  // Flat rectangular vanes parallel to a flat skin: feather i is over feather j exactly when a vertex
+  // of j outside its root disc lies inside i's rectangle seen from above, i higher than j, within
+  // i's extent. Pairs decided within 1e-4 of an edge or a threshold are left out of the comparison.
+  std::mt19937 random(2024);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int64_t compared = 0, overlapping = 0, ranked = 0;
+  for (int seed = 0; seed < 60; ++seed) {
+    const float scale = seed % 3 == 0 ? 1.0f : seed % 3 == 1 ? 1e-3f : 1e3f;
+    std::vector<Flat> flats;
+    for (int f = 0; f < 24; ++f)
+      flats.push_back({4.0f * unit(random), 4.0f * unit(random), 0.05f + 0.5f * unit(random), 0.4f + 1.2f * unit(random),
+                       0.1f + 0.6f * unit(random)});
+    Vanes v;
+    for (size_t f = 0; f < flats.size(); ++f)
+      v.add(uint64_t(100 + f), flats[f].x, flats[f].y, flats[f].z, flats[f].length, flats[f].width, scale);
+    const Mesh skin = plane_skin(scale);
+    const check::VaneOverlaps found = overlaps_of(v, skin);
+
+    std::set<std::pair<uint64_t, uint64_t>> expected, uncertain;
+    for (size_t j = 0; j < flats.size(); ++j) {
+      const Flat &b = flats[j];
+      for (int k = 1; k <= 4; ++k) {
+        const Vector3f p = v.positions[size_t(v.first_vertex[j] + k)] / scale;
+        // No ray from a vertex in its feather's root disc (5% of its extent from its base).
+        const double from_base = std::hypot(p.x() - b.x, p.y() - b.y), disc = 0.05 * std::hypot(b.length, b.width / 2);
+        if (std::abs(from_base - disc) < 1e-4) {
+          for (size_t i = 0; i < flats.size(); ++i) uncertain.insert({100 + j, 100 + i});
+          continue;
+        }
+        if (from_base < disc) continue;
+        for (size_t i = 0; i < flats.size(); ++i) {
+          if (i == j) continue;
+          const Flat &a = flats[i];
+          const double inside = std::min({p.x() - a.x, a.x + a.length - p.x(), p.y() - (a.y - a.width / 2),
+                                          a.y + a.width / 2 - p.y()});
+          const double above = a.z - b.z;
+          const double extent = std::hypot(a.length, a.width / 2);
+          const std::pair<uint64_t, uint64_t> pair(100 + j, 100 + i);
+          if (std::abs(inside) < 1e-4 || std::abs(above) < 1e-4 || std::abs(above - extent) < 1e-4) {
+            uncertain.insert(pair);
+            continue;
+          }
+          if (inside > 0 && above > 0 && above <= extent) expected.insert(pair);
+        }
+      }
+    }
+    std::set<std::pair<uint64_t, uint64_t>> got;
+    for (const check::Overlap &o : found.over) got.insert({o.inner, o.outer});
+    for (const auto &pair : uncertain) {
+      expected.erase(pair);
+      got.erase(pair);
+    }
+    INFO("seed " << seed << ", scale " << scale);
+    CHECK(got == expected);
+    compared += int64_t(flats.size() * flats.size());
+    overlapping += int64_t(expected.size());
+
+    // Violations against a random order, and flips against the coat with every height reversed,
+    // counted by brute force over the expected pairs.
+    std::unordered_map<uint64_t, int64_t> rank;
+    std::vector<int64_t> places(flats.size());
+    std::iota(places.begin(), places.end(), 0);
+    std::shuffle(places.begin(), places.end(), random);
+    for (size_t f = 0; f < flats.size(); ++f) rank[100 + f] = places[f];
+    if (uncertain.empty()) {
+      ++ranked;
+      std::set<std::pair<uint64_t, uint64_t>> wrong;
+      for (const auto &[inner, outer] : expected)
+        if (rank[outer] < rank[inner]) wrong.insert({std::min(inner, outer), std::max(inner, outer)});
+      CHECK(check::layer_order_violations(found, rank).violations == int64_t(wrong.size()));
+      Vanes reversed;
+      for (size_t f = 0; f < flats.size(); ++f)
+        reversed.add(uint64_t(100 + f), flats[f].x, flats[f].y, 0.6f - flats[f].z, flats[f].length, flats[f].width,
+                     scale);
+      std::set<std::pair<uint64_t, uint64_t>> one_way;
+      for (const auto &[inner, outer] : expected)
+        if (!expected.count({outer, inner})) one_way.insert({std::min(inner, outer), std::max(inner, outer)});
+      // Reversed heights turn every pair seen one way only to the other way, where the reversed coat
+      // sees it (the vertices that saw it may no longer): at most that many flips, and no pair seen
+      // both ways before can flip.
+      const check::OrderFlips flips = check::order_flips(found, overlaps_of(reversed, skin));
+      CHECK(flips.flips <= int64_t(one_way.size()));
+      for (const auto &[before, now] : flips.examples) CHECK(one_way.count({std::min(before, now), std::max(before, now)}));
+    }
+  }
+  CHECK(overlapping > 200);  // the coats do overlap
+  CHECK(ranked > 40);        // and most have no pair near a threshold
+  CHECK(compared == 60 * 24 * 24);
 }

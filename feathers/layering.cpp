@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "feathers/coat.h"
+#include "groom/segment_distance.h"
 
 namespace plume::feathers {
 
@@ -23,7 +24,7 @@ using Triangle = std::array<Vec, 3>;
 /// each with a bounding sphere: the first level of the test.
 constexpr int kGroup = 8;
 
-// Closest distances (Ericson, "Real-Time Collision Detection", 5.1.5 and 5.1.9), squared.
+// Closest distances (Ericson, "Real-Time Collision Detection", 5.1.5; segments: groom/segment_distance.h), squared.
 double point_triangle_squared(const Vec &p, const Triangle &t) {
   const Vec &a = t[0], &b = t[1], &c = t[2];
   const Vec ab = b - a, ac = c - a, ap = p - a;
@@ -46,33 +47,6 @@ double point_triangle_squared(const Vec &p, const Triangle &t) {
   if (!(sum > 0.0)) return std::min({ap.squaredNorm(), bp.squaredNorm(), cp.squaredNorm()});
   const double v = vb / sum, w = vc / sum;
   return (p - (a + ab * v + ac * w)).squaredNorm();
-}
-
-double segment_segment_squared(const Vec &p1, const Vec &q1, const Vec &p2, const Vec &q2) {
-  const Vec d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
-  if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return ((p1 + d1 * s) - (p2 + d2 * t)).squaredNorm();
 }
 
 /// Whether segment pq crosses triangle t (its plane between p and q, the crossing inside t; signed
@@ -113,7 +87,7 @@ bool too_close(const Triangle &a, const Triangle &b, double gap2) {
     if (point_triangle_squared(a[size_t(k)], b) < gap2) return true;
     if (point_triangle_squared(b[size_t(k)], a) < gap2) return true;
     for (int m = 0; m < 3; ++m)
-      if (segment_segment_squared(a[size_t(k)], a[size_t((k + 1) % 3)], b[size_t(m)], b[size_t((m + 1) % 3)]) < gap2)
+      if (segment_distance_squared(a[size_t(k)], a[size_t((k + 1) % 3)], b[size_t(m)], b[size_t((m + 1) % 3)]) < gap2)
         return true;
   }
   return false;

@@ -95,9 +95,9 @@ TEST_CASE("a feather frame against itself neither flips nor pops; a planted pop 
   CHECK(field(itself.out, "order_flips", "flips") == 0);
   CHECK(field(itself.out, "popping", "largest_rachis_widths") == 0.0);
   CHECK(itself.out.find("\"over_bound\": false") != std::string::npos);
-  // The layered proxy's vanes meet nowhere and stay out of the skin, yet the layering pass does not
-  // put every higher feather outside the lower ones it overlaps: layer-order violations, and --strict
-  // fails on them alone.
+  // The layered proxy's vanes meet nowhere and stay out of the skin, yet the layering pass cannot
+  // turn every higher feather out from under the lower ones it overlaps (layering_test.cpp names
+  // which): layer-order violations, and --strict fails on them alone.
   CHECK(field(itself.out, "vane_pairs", "feather_pairs") == 0);
   CHECK(field(itself.out, "inside_skin", "points") == 0);
   CHECK(field(itself.out, "layer_order", "violations") > 0);

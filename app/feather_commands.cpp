@@ -127,6 +127,9 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
     if (result.feathers.layering.unresolved > 0)
       std::fprintf(stderr, "plume: warning: frame %d: %lld feathers could not be turned clear of the feathers below them (shrunk toward their roots)\n",
                    frame, (long long)result.feathers.layering.unresolved);
+    if (result.feathers.layering.left_under > 0)
+      std::fprintf(stderr, "plume: warning: frame %d: %lld feathers are left under a feather the layer order puts below them (no turn frees them; plume check reports the pairs)\n",
+                   frame, (long long)result.feathers.layering.left_under);
     progress.frame_done(frame);
   }
   progress.finish();

@@ -88,6 +88,8 @@ TEST_CASE("a feather frame against itself neither flips nor pops; a planted pop 
                                   scratch);
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
+  // The feathers the pass leaves under a lower one are announced (the violations below come from them).
+  CHECK(run.err.find("feathers are left under a feather the layer order puts below them") != std::string::npos);
   const std::string frame = scratch / "v.0024.obj";
   const std::string same = "check " + quoted(frame) + " --groom " + quoted(groom) + " --frame 24 --previous-frame 24 ";
   const RunResult itself = run_plume(same + "--previous " + quoted(frame) + " --max-pop 0 --strict --json", scratch);

@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_bird.h"
 #include "feathers/coat.h"
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
@@ -84,11 +85,11 @@ Timing time_frames(const feathers::Coat &coat, const Mesh &posed, const StrandSe
 }  // namespace
 
 int main() {
-  const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
-  const GroomDesc groom = io::read_groom_file(folder + "bird.groom.yaml");
-  const Mesh rest = io::read_obj_mesh(folder + "bird.obj");
-  const MeshQuery rest_query(rest);
-  const Guides stems = bind_guides(rest_query, io::read_strands(folder + "stems.obj"), "stems.obj");
+  const bench::Bird bird;
+  const std::string &folder = bird.folder;
+  const GroomDesc &groom = bird.groom;
+  const Mesh &rest = bird.rest;
+  const Guides &stems = bird.stems;
   const int hardware = int(std::thread::hardware_concurrency());
   std::printf("Feathers on the bird (grooms/bird): 5,000 feathers, curves (8 points per barb) and vane meshes\n");
   std::printf("hardware threads: %d; medians of 5 frames; posed frame 12 (wing open, neck bending)\n", hardware);

@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "bench_bird.h"
 #include "check/feather_layers.h"
 #include "check/vanes.h"
 #include "feathers/coat.h"
@@ -36,11 +37,11 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 int main() {
-  const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
-  const GroomDesc groom = io::read_groom_file(folder + "bird.groom.yaml");
-  const Mesh rest = io::read_obj_mesh(folder + "bird.obj");
-  const MeshQuery rest_query(rest);
-  const Guides stems = bind_guides(rest_query, io::read_strands(folder + "stems.obj"), "stems.obj");
+  const bench::Bird bird;
+  const std::string &folder = bird.folder;
+  const GroomDesc &groom = bird.groom;
+  const Mesh &rest = bird.rest;
+  const Guides &stems = bird.stems;
   const int hardware = int(std::thread::hardware_concurrency());
   std::printf("Feathers in layers on the bird (grooms/bird, feathers.layers on)\n");
   std::printf("hardware threads: %d; one run per row; posed frames of the sequence (stems carried by the skin)\n\n",

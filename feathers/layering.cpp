@@ -63,8 +63,6 @@ bool segment_crosses(const Vec &p, const Vec &q, const Triangle &t) {
   return (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0);
 }
 
-/// Whether two triangles intersect or come within sqrt(gap2) of each other. Two triangles that do
-/// not intersect are nearest at a vertex of one against the other or at two edges.
 /// Whether every vertex of `a` lies farther than sqrt(gap2) from b's plane, on one side: then all of
 /// `a` does (a convex combination), and so it is that far from `b`. A slack of 1e-9 of the
 /// triangles' size keeps rounding on the side of testing further.
@@ -79,6 +77,8 @@ bool beyond_plane(const Triangle &a, const Triangle &b, double gap2) {
   return (d0 > reach && d1 > reach && d2 > reach) || (d0 < -reach && d1 < -reach && d2 < -reach);
 }
 
+/// Whether two triangles intersect or come within sqrt(gap2) of each other. Two triangles that do
+/// not intersect are nearest at a vertex of one against the other or at two edges.
 bool too_close(const Triangle &a, const Triangle &b, double gap2) {
   if (beyond_plane(a, b, gap2) || beyond_plane(b, a, gap2)) return false;
   for (int k = 0; k < 3; ++k) {

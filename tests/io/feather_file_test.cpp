@@ -9,6 +9,7 @@
 
 #include "io/feather_file.h"
 #include "io/groom_file.h"
+#include "io/scratch_dir.h"
 
 namespace fs = std::filesystem;
 using namespace plume;
@@ -165,16 +166,22 @@ TEST_CASE("bad layer orders give file:line:column errors naming the key", "[io][
     std::ifstream in(valid);
     text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  const std::string layers = "  layers: {enabled: true, offset: 0.01, map: layer_map.txt, front: [face], rear: [scalp]}";
-  REQUIRE(text.find(layers) != std::string::npos);
+  // The valid groom's relative paths made absolute, so that an edited copy reads from a scratch folder.
+  for (const std::string name : {"../groom_file/", "../groom_file/", "templates.yaml", "layer_map.txt"}) {
+    const size_t at = text.find(name);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, name.size(), (data_dir / "feathers" / name).lexically_normal().string());
+  }
+  const size_t line = text.find("  layers: {enabled: true, offset: 0.01, map: ");
+  REQUIRE(line != std::string::npos);
+  const std::string layers = text.substr(line, text.find('\n', line) - line);
+  const test::ScratchDir scratch("bad_layer_orders");
   const auto error_with = [&](const std::string &from, const std::string &to) {
     std::string edited = text;
     edited.replace(edited.find(from), from.size(), to);
-    // Next to the valid groom, so that its relative paths still resolve.
-    const std::string path = (data_dir / "feathers" / ("edited_" + std::to_string(long(::getpid())) + ".groom.yaml")).string();
+    const std::string path = scratch.file("edited.groom.yaml");
     std::ofstream(path) << edited;
     const std::string message = error_of(path);
-    fs::remove(path);
     return message.substr(message.find(".groom.yaml:") + 12);
   };
   CHECK(error_with(layers, "  layers: {enabled: true, front: [face, scalp], rear: [scalp]}") ==

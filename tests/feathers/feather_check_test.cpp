@@ -213,3 +213,38 @@ TEST_CASE("a bad layer map or an unknown front tract exits 2 naming the key, and
     CHECK_FALSE(std::filesystem::exists(scratch / "v.0001.obj"));
   }
 }
+
+TEST_CASE("plume check --frames compares each feather frame with the one before it in the range", "[feathers][cli]") {
+  ScratchDir scratch("feather_check_frames");
+  const RunResult run = run_plume("regrow " + quoted(kBird) + " --strands 300 --frames 22-24 --no-preview --vanes " +
+                                      quoted(scratch / "v.####.obj"), scratch);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const RunResult range = run_plume("check " + quoted(scratch / "v.####.obj") + " --groom " + quoted(kBird) +
+                                        " --frames 22-24 --max-pop 1000 --json", scratch);
+  INFO(range.err);
+  REQUIRE(range.exit_code == 0);
+  const RunResult alone = run_plume("check " + quoted(scratch / "v.0024.obj") + " --groom " + quoted(kBird) +
+                                        " --frame 24 --previous " + quoted(scratch / "v.0023.obj") +
+                                        " --max-pop 1000 --json", scratch);
+  REQUIRE(alone.exit_code == 0);
+  // The range's reports, one per line, in frame order; the third is the single check of frame 24
+  // against 23, file names aside.
+  std::vector<std::string> reports;
+  std::istringstream lines(range.out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("{\"file\": ", 0) == 0) reports.push_back(line);
+  REQUIRE(reports.size() == 3);
+  const auto without_files = [](std::string text) {
+    for (size_t at = text.find("\"file\": \""); at != std::string::npos; at = text.find("\"file\": \"", at + 1))
+      text.erase(at + 9, text.find('"', at + 9) - (at + 9));
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    return text;
+  };
+  CHECK(without_files(reports[2]) == without_files(alone.out));
+  // The first frame of the range has nothing before it; the second is against the first.
+  CHECK(reports[0].find("\"previous\"") == std::string::npos);
+  CHECK(reports[1].find("\"previous\": {\"file\": \"" + (scratch / "v.0022.obj") + "\", \"frame\": 22") != std::string::npos);
+  CHECK(field(range.out, "order_flips", "pairs_in_both") > 100);
+  CHECK(range.out.find("\"frames_checked\": 3") != std::string::npos);
+}

@@ -429,19 +429,7 @@ FeatherDesc read_feathers_section(const YAML::Node &node, const std::string &fil
 }
 
 std::vector<FeatherTemplate> read_template_file(const std::string &path) {
-  YAML::Node document;
-  try {
-    document = YAML::LoadFile(path);
-  } catch (const YAML::ParserException &e) {
-    FileLoc loc{path};
-    if (e.mark.line >= 0) {
-      loc.line = e.mark.line + 1;
-      loc.column = e.mark.column + 1;
-    }
-    throw InputError(loc, "YAML syntax error: " + e.msg);
-  } catch (const YAML::BadFile &) {
-    throw InputError(FileLoc{path}, "cannot read the template file: it could not be opened");
-  }
+  const YAML::Node document = load_yaml_file(path, "template file");
   FeatherReader reader(path, fs::absolute(fs::path(path)).parent_path());
   YamlMap root(document, "", path);
   if (!root.given("templates")) throw InputError(root.loc(), "templates: missing required key (a map of name: template)");

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "check/vanes.h"
 #include "feathers/coat.h"
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
@@ -178,4 +179,21 @@ TEST_CASE("an unknown front or rear tract is named with the emitter's groups", "
       CHECK(message.find("left_wing") != std::string::npos);
     }
   }
+}
+
+TEST_CASE("the layering pass keeps vanes apart in the groom's own order, reversed tracts included", "[feathers]") {
+  const Bird bird;
+  // Flight feathers in front of the coverts that cover their bases at rest, the belly behind all.
+  const std::unique_ptr<Coat> coat = bird.bind(500, [](FeatherDesc &d) {
+    d.layer_front = {"left_flight", "right_flight"};
+    d.layer_rear = {"belly"};
+  });
+  REQUIRE_FALSE(coat->layer_order().overridden.empty());
+  const MeshQuery query(bird.rest);
+  CoatFrame frame;
+  coat->grow(bird.rest, query, bird.stems.strands, frame);
+  const check::VaneCheckReport report =
+      check::check_vanes(frame.vanes.positions, frame.vanes.triangles, frame.vanes.triangle_feathers);
+  CHECK(report.feather_pairs == 0);
+  CHECK(frame.layering.lifted > 0);
 }

@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
 #include <optional>
 #include <queue>
 #include <set>
-#include <thread>
 
 #include "feathers/coat.h"
 #include "groom/segment_distance.h"
@@ -390,6 +390,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   for (size_t i = 0; i < n; ++i)
     if (waiting[i] == 0) ready.push(int32_t(i));
   std::mutex mutex;  // guards ready, waiting and done
+  std::condition_variable woken;  // when a feather is ready or the last is done
   size_t done = 0;
   // Each feather's vanes once it is placed: what the feathers above it keep clear of.
   std::vector<FeatherVanes> placed(n);
@@ -403,16 +404,13 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   while (true) {
     int32_t next = -1;
     {
-      const std::lock_guard<std::mutex> lock(mutex);
+      // A thread with nothing ready sleeps (on a shared machine a spinning one took the time of the
+      // one on the longest chain).
+      std::unique_lock<std::mutex> lock(mutex);
+      woken.wait(lock, [&] { return done == n || !ready.empty(); });
       if (done == n) break;
-      if (!ready.empty()) {
-        next = ready.top();
-        ready.pop();
-      }
-    }
-    if (next < 0) {
-      std::this_thread::yield();
-      continue;
+      next = ready.top();
+      ready.pop();
     }
     const size_t i = size_t(next);
     for (int once = 0; once < 1; ++once) {  // `continue` ends the feather
@@ -879,10 +877,13 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       ++lifted;
       largest = std::max(largest, float(above));
     }
-    const std::lock_guard<std::mutex> lock(mutex);
-    for (const int32_t k : higher[i])
-      if (--waiting[size_t(k)] == 0) ready.push(k);
-    ++done;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      for (const int32_t k : higher[i])
+        if (--waiting[size_t(k)] == 0) ready.push(k);
+      ++done;
+    }
+    woken.notify_all();
   }
   stats.lifted = lifted;
   stats.unresolved = unresolved;

@@ -13,8 +13,11 @@
 #include <optional>
 #include <queue>
 #include <set>
+#include <string>
+#include <tuple>
 
 #include "feathers/coat.h"
+#include "groom/error.h"
 #include "groom/segment_distance.h"
 #include "skin/skin_grid.h"
 
@@ -254,8 +257,12 @@ std::vector<std::vector<int32_t>> lower_neighbours(const std::vector<Vec> &roots
 
 }  // namespace
 
-LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges) {
+LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges,
+                                     std::span<const LayerKey> keys) {
   const size_t n = ranges.size();
+  if (!keys.empty() && keys.size() != n)
+    throw InternalError("layer_order_from_coverage: " + std::to_string(keys.size()) + " keys for " +
+                        std::to_string(n) + " feathers");
   std::vector<FeatherVanes> vanes(n);
   std::vector<Vec> roots(n);
   std::vector<double> extents(n);
@@ -307,20 +314,29 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
     }
   }
   LayerOrder order;
+  const LayerKey plain;
+  const auto key = [&](size_t i) -> const LayerKey & { return keys.empty() ? plain : keys[i]; };
   std::vector<std::vector<int32_t>> covered_by(n);
   std::vector<int32_t> remaining_covers(n);
   for (size_t i = 0; i < n; ++i) {
     std::sort(covers[i].begin(), covers[i].end());
     order.coverings += int64_t(covers[i].size());
+    // A covering the keys reverse does not count: the covering feather goes below.
+    std::erase_if(covers[i], [&](int32_t j) {
+      const bool reversed = key(i) < key(size_t(j));
+      if (reversed) order.overridden.emplace_back(int32_t(i), j);
+      return reversed;
+    });
     remaining_covers[i] = int32_t(covers[i].size());
     for (const int32_t j : covers[i]) covered_by[size_t(j)].push_back(int32_t(i));
   }
-  std::set<std::pair<int32_t, int32_t>> ready;
-  for (size_t i = 0; i < n; ++i) ready.emplace(remaining_covers[i], int32_t(i));
+  // Next: the smallest key, then the fewest coverings of feathers still to place, then the index.
+  std::set<std::tuple<LayerKey, int32_t, int32_t>> ready;
+  for (size_t i = 0; i < n; ++i) ready.emplace(key(i), remaining_covers[i], int32_t(i));
   std::vector<bool> placed(n, false);
   order.rank.assign(n, -1);
   while (!ready.empty()) {
-    const auto [count, i] = *ready.begin();
+    const auto [k, count, i] = *ready.begin();
     ready.erase(ready.begin());
     if (count > 0)
       for (const int32_t j : covers[size_t(i)])
@@ -328,10 +344,10 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
     placed[size_t(i)] = true;
     order.rank[size_t(i)] = int32_t(order.bottom_up.size());
     order.bottom_up.push_back(i);
-    for (const int32_t k : covered_by[size_t(i)]) {
-      if (placed[size_t(k)]) continue;
-      ready.erase({remaining_covers[size_t(k)], k});
-      ready.emplace(--remaining_covers[size_t(k)], k);
+    for (const int32_t c : covered_by[size_t(i)]) {
+      if (placed[size_t(c)]) continue;
+      ready.erase({key(size_t(c)), remaining_covers[size_t(c)], c});
+      ready.emplace(key(size_t(c)), --remaining_covers[size_t(c)], c);
     }
   }
   return order;

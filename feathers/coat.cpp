@@ -728,9 +728,13 @@ Eigen::Vector3f Coat::blend_stems(const StemFrame &frames, size_t i, float z) co
 
 void Coat::grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
                 const skin::SkinGrid *skin_grid) const {
+  // One grid of the posed skin serves the skin pass and the layering pass.
+  std::optional<skin::SkinGrid> own_grid;
+  const bool layered = layers_ && !order_.bottom_up.empty();
+  if (!skin_grid && (lift_ || layered)) skin_grid = &own_grid.emplace(posed, query);
   grow_feathers(posed, query, stems, r_frame, skin_grid);
   r_frame.layering = {};
-  if (layers_ && !order_.bottom_up.empty()) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame);
+  if (layered) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame, skin_grid);
 }
 
 void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,

@@ -356,7 +356,7 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
 }
 
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
-                          const MeshQuery *skin, CoatFrame &r_frame) {
+                          const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid) {
   const size_t n = ranges.size();
   LayeringStats stats;
   if (n == 0) return stats;
@@ -413,8 +413,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   // Each feather's vanes once it is placed: what the feathers above it keep clear of.
   std::vector<FeatherVanes> placed(n);
   // The skin's closest points, searched near the last one found for the same vertex.
-  std::optional<skin::SkinGrid> grid;
-  if (skin) grid.emplace(skin->mesh(), *skin);
+  std::optional<skin::SkinGrid> own_grid;
+  const skin::SkinGrid *grid = skin_grid;
+  if (skin && !grid) grid = &own_grid.emplace(skin->mesh(), *skin);
   int64_t lifted = 0, unresolved = 0, left_under = 0;
   std::vector<char> unordered(n, 0);
   float largest = 0.0f;

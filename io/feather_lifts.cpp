@@ -1,5 +1,6 @@
 #include "io/feather_lifts.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -85,9 +86,11 @@ FeatherLifts read_feather_lifts(const std::string &path) {
   const long long count = keyword_value(cursor, "feathers");
   if (count < 0 || count > 100000000LL)
     cursor.fail("feathers: expected a count in 0..100000000, got " + std::to_string(count));
-  lifts.ids.reserve(size_t(count));
-  lifts.lifts.reserve(size_t(count));
-  lifts.scales.reserve(size_t(count));
+  // No more lines than the text can hold (a line takes at least 6 bytes): a wrong count allocates nothing.
+  const size_t expected = std::min(size_t(count), text.size() / 6);
+  lifts.ids.reserve(expected);
+  lifts.lifts.reserve(expected);
+  lifts.scales.reserve(expected);
   std::unordered_set<uint64_t> seen;
   while (next_content(cursor, rest)) {
     const std::string what = "feather " + std::to_string(lifts.ids.size());

@@ -154,6 +154,8 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
            {valid.substr(0, body) + "7 nan 1\n" + valid.substr(second_line), ":5:"},
            {valid.substr(0, body) + "7 0.5 2\n" + valid.substr(second_line), "scale"},
            {valid.substr(0, second_line), "expected"},
+           {"plume feather lifts 1\nframe 3\nfeathers 99999999\n1 0 1\n", "expected 99999999 feathers, got 1"},
+           {"plume feather lifts 1\nframe 3\nfeathers 1\n1 0 1\n", "no feather id"},
        }) {
     std::ofstream(lifts, std::ios::binary) << text;
     run = regrow("4", "bad", cache);

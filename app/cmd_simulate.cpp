@@ -1,14 +1,18 @@
 // `plume simulate GROOM --frames 1-48 --cache cache/guides.####.hair`: runs the guide dynamics over
 // the range (sequential in time) and writes the simulated guides of every frame, so that dense
-// regrowth (`plume regrow --guides-cache`) can then run per frame or per chunk, anywhere.
+// regrowth (`plume regrow --guides-cache`) can then run per frame or per chunk, anywhere. A feather
+// groom's coat also runs its skin pass, whose state of every frame goes beside the cache (the next
+// frame's warm start: io/feather_lifts.h).
 #include <memory>
 
 #include "app/commands.h"
+#include "app/feather_pipeline.h"
 #include "app/groom_outputs.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
 #include "app/run_outputs.h"
 #include "groom/error.h"
+#include "io/feather_lifts.h"
 #include "io/groom_file.h"
 
 namespace plume {
@@ -49,10 +53,25 @@ void run_simulate(const SimulateArgs &args) {
   PipelineOptions options;
   options.strand_count = 0;  // guides only: no dense roots are needed
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
-  Pipeline pipeline(groom, options);
-  pipeline.check_frame_inputs(range);
+  // A feather groom whose skin pass lifts feathers: its whole coat, for the skin pass's state.
+  std::unique_ptr<FeatherPipeline> coat;
+  std::unique_ptr<Pipeline> guides_only;
+  std::string lifts;
+  if (groom.feathers.enabled && groom.feathers.lift) {
+    PipelineOptions coat_options = options;
+    coat_options.strand_count = -1;
+    coat = std::make_unique<FeatherPipeline>(groom, coat_options);
+    coat->check_frame_inputs(range);
+    lifts = io::feather_lifts_pattern(cache);
+    check_output_locations(lifts, range, cache_what + " (its feather lifts)", inputs);
+  } else {
+    guides_only = std::make_unique<Pipeline>(groom, options);
+    guides_only->check_frame_inputs(range);
+  }
+  Pipeline &pipeline = coat ? coat->base() : *guides_only;
   // What runs killed by SIGKILL left of these outputs goes, now that the run is known to start.
   remove_stale_temp_files(cache, range);
+  if (!lifts.empty()) remove_stale_temp_files(lifts, range);
   remove_stale_temp_files(previews.pattern(), range);
   PreviewStyle style;
   style.size = preview_size;
@@ -60,16 +79,32 @@ void run_simulate(const SimulateArgs &args) {
   const StrandSet no_strands;
   RunSummary summary("simulate", range);
   const int cache_output = summary.add_output("guide cache", cache);
+  const int lifts_output = lifts.empty() ? -1 : summary.add_output("feather lifts", lifts);
   const int previews_output = summary.add_output("previews", previews.pattern());
 
   Progress progress("simulate", int(range.count()));
   for (int64_t i = 0; i < range.count(); ++i) {
     const int frame = range.at(i);
-    const Mesh posed = pipeline.posed_mesh(frame);
-    const StrandSet guides = pipeline.guides_at(frame, posed);
+    Mesh posed;
+    StrandSet guides;
+    io::FeatherLifts state;
+    if (coat) {
+      FeatherPipeline::SkinPassFrame grown = coat->skin_pass(frame);
+      posed = std::move(grown.mesh);
+      guides = std::move(grown.stems);
+      state = {frame, coat->coat().ids(), std::move(grown.state.lifts), std::move(grown.state.scales)};
+    } else {
+      posed = pipeline.posed_mesh(frame);
+      guides = pipeline.guides_at(frame, posed);
+    }
     const std::string path = expand_frame_pattern(cache, frame);
     write_guide_cache(path, guides, frame);
     summary.wrote(cache_output, path);
+    if (coat) {
+      const std::string lifts_path = expand_frame_pattern(lifts, frame);
+      io::write_feather_lifts(lifts_path, state);
+      summary.wrote(lifts_output, lifts_path);
+    }
     const std::string preview = previews.path_at(i, frame);
     if (!preview.empty()) {
       write_png(preview, render_preview(camera, posed, no_strands, &guides, style));

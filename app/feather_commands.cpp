@@ -104,7 +104,7 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
   PreviewCamera camera;
   if (to_grow > 0) {
     pipeline = std::make_unique<FeatherPipeline>(groom, options);
-    pipeline->base().check_frame_inputs(range);
+    pipeline->check_frame_inputs(range);
     write_options = pipeline->write_options();
     if (!previews.pattern().empty())
       camera = feather_camera(pipeline->base().rest_mesh(), pipeline->rest_frame().curves.curves);
@@ -168,7 +168,7 @@ void run_feather_preview(const GroomDesc &groom, int frame, const std::string &p
   options.simulation_start = std::min(groom_first_frame(groom), frame);
   FeatherPipeline pipeline(groom, options);
   const FrameRange single{frame, frame, 1};
-  pipeline.base().check_frame_inputs(single);
+  pipeline.check_frame_inputs(single);
   const Eigen::AlignedBox3f bounds = scene_bounds(pipeline.base().rest_mesh(), pipeline.rest_frame().curves.curves);
   const std::vector<PreviewCamera> cameras = views.turntable > 0 ? turntable_cameras(bounds, views.turntable, views.angle)
                                                                  : std::vector{fit_camera(bounds, views.angle)};

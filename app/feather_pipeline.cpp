@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <unordered_map>
 
 #include "app/commands.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
+#include "io/feather_lifts.h"
 #include "io/point_list.h"
 #include "io/vertex_map.h"
 #include "skin/skin_grid.h"
@@ -58,7 +61,8 @@ void check_memory_for_feathers(const GroomDesc &groom, size_t count, const std::
 
 }  // namespace
 
-FeatherPipeline::FeatherPipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom) {
+FeatherPipeline::FeatherPipeline(const GroomDesc &groom, const PipelineOptions &options)
+    : groom_(groom), options_(options) {
   if (!groom_.feathers.enabled) throw InternalError("FeatherPipeline: the groom has no feathers section");
   // The base pipeline grows no strands: it poses the emitter and carries, simulates or reads the stems.
   PipelineOptions base_options = options;
@@ -81,14 +85,97 @@ std::vector<feathers::LayerKey> FeatherPipeline::layer_keys() const {
 }
 
 FeatherPipeline::Frame FeatherPipeline::produce(int frame) {
+  const feathers::SkinPassState *previous = warm_start(frame);
   Frame result;
   result.frame = frame;
   result.mesh = base_->posed_mesh(frame);
   result.stems = base_->guides_at(frame, result.mesh);
   const MeshQuery query(result.mesh);
   const skin::SkinGrid grid(result.mesh, query);
-  coat_->grow(result.mesh, query, result.stems, result.feathers, &grid);
+  coat_->grow(result.mesh, query, result.stems, result.feathers, &grid, previous);
+  state_ = result.feathers.skin_pass;
+  state_frame_ = frame;
   return result;
+}
+
+FeatherPipeline::SkinPassFrame FeatherPipeline::skin_pass(int frame) {
+  const feathers::SkinPassState *previous = warm_start(frame);
+  SkinPassFrame result;
+  result.mesh = base_->posed_mesh(frame);
+  result.stems = base_->guides_at(frame, result.mesh);
+  const MeshQuery query(result.mesh);
+  coat_->skin_pass(result.mesh, query, result.stems, previous, result.state);
+  state_ = result.state;
+  state_frame_ = frame;
+  return result;
+}
+
+bool FeatherPipeline::cached() const { return base_->dynamic() && !options_.guides_cache.empty(); }
+
+std::optional<feathers::SkinPassState> FeatherPipeline::read_cached_state(int frame) const {
+  const std::string path = expand_frame_pattern(io::feather_lifts_pattern(options_.guides_cache), frame);
+  std::error_code error;
+  if (!std::filesystem::exists(path, error) &&
+      !std::filesystem::exists(expand_frame_pattern(options_.guides_cache, frame), error))
+    return std::nullopt;
+  const io::FeatherLifts lifts = io::read_feather_lifts(path);
+  if (lifts.frame != frame)
+    throw InputError(FileLoc{path, 2}, "frame: expected " + std::to_string(frame) + " (the file's name), got " +
+                                           std::to_string(lifts.frame));
+  std::unordered_map<uint64_t, size_t> by_id;
+  by_id.reserve(lifts.ids.size());
+  for (size_t k = 0; k < lifts.ids.size(); ++k) by_id.emplace(lifts.ids[k], k);
+  const std::vector<uint64_t> &ids = coat_->ids();
+  feathers::SkinPassState state;
+  state.lifts.resize(ids.size());
+  state.scales.resize(ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const auto it = by_id.find(ids[i]);
+    if (it == by_id.end())
+      throw InputError(FileLoc{path}, "feathers: no feather id " + std::to_string(ids[i]) + " (the file holds " +
+                                          std::to_string(lifts.ids.size()) + " feathers, the coat " +
+                                          std::to_string(ids.size()) + ": a cache of another groom? Write it again "
+                                          "with plume simulate)");
+    state.lifts[i] = lifts.lifts[it->second];
+    state.scales[i] = lifts.scales[it->second];
+  }
+  return state;
+}
+
+const feathers::SkinPassState *FeatherPipeline::warm_start(int frame) {
+  if (!groom_.feathers.lift) return nullptr;
+  if (cached()) {
+    std::optional<feathers::SkinPassState> state = read_cached_state(frame - 1);
+    if (!state) return nullptr;
+    cached_state_ = std::move(*state);
+    return &cached_state_;
+  }
+  const int start = std::min(options_.simulation_start, frame);
+  if (frame <= start) return nullptr;
+  // Carried from the last frame, or replayed from the start (stateless there) through the frames
+  // not produced.
+  int next = state_frame_ && *state_frame_ < frame && *state_frame_ >= start ? *state_frame_ + 1 : start;
+  if (next == start) state_ = {};
+  for (; next < frame; ++next) {
+    const Mesh mesh = base_->posed_mesh(next);
+    const StrandSet stems = base_->guides_at(next, mesh);
+    const MeshQuery query(mesh);
+    feathers::SkinPassState state;
+    coat_->skin_pass(mesh, query, stems, state_.empty() ? nullptr : &state_, state);
+    state_ = std::move(state);
+    state_frame_ = next;
+  }
+  return &state_;
+}
+
+void FeatherPipeline::check_frame_inputs(const FrameRange &range) const {
+  if (!groom_.feathers.lift || cached() || range.first <= options_.simulation_start) {
+    base_->check_frame_inputs(range);
+  } else {
+    base_->check_frame_inputs(FrameRange{options_.simulation_start, range.last, 1});
+  }
+  if (!groom_.feathers.lift || !cached()) return;
+  for (int64_t i = 0; i < range.count(); ++i) read_cached_state(range.at(i) - 1);
 }
 
 feathers::CoatFrame FeatherPipeline::rest_frame() const {

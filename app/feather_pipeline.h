@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,8 +36,23 @@ class FeatherPipeline {
     StrandSet stems;               // the guide stems at this frame
     feathers::CoatFrame feathers;  // the grown coat
   };
-  /// The whole frame. Frames should be asked for in increasing order when stems are simulated.
+  /// The whole frame. Frames should be asked for in increasing order: the skin pass starts from the
+  /// frame before (its warm start, Coat::grow), carried from the last frame produced, or replayed
+  /// from options.simulation_start (stateless there), or, with a guide cache, read from the cache's
+  /// lifts file of the frame before (io/feather_lifts.h; none before the cache's first frame).
   Frame produce(int frame);
+  /// The skin pass alone at `frame`, carried as produce() carries it: what plume simulate writes
+  /// beside the guide cache.
+  struct SkinPassFrame {
+    Mesh mesh;
+    StrandSet stems;
+    feathers::SkinPassState state;
+  };
+  SkinPassFrame skin_pass(int frame);
+  /// Pipeline::check_frame_inputs() over every frame the range reads: with a guide cache, also the
+  /// lifts files of the frames before the range's; without one, the frames the skin pass replays
+  /// from options.simulation_start. Throws InputError naming the file.
+  void check_frame_inputs(const FrameRange &range) const;
   /// The coat grown on the rest emitter with the rest stems (the preview camera frames it).
   feathers::CoatFrame rest_frame() const;
   /// Per feather, its key in the groom's own layer order (key feathers' `layer`, `layers.map`,
@@ -50,6 +66,22 @@ class FeatherPipeline {
   std::unique_ptr<Pipeline> base_;
   std::unique_ptr<feathers::Coat> coat_;
   std::vector<float> layer_map_;  // the groom's feathers.layers.map, or empty
+
+  /// Whether the skin pass's state comes from the guide cache's lifts files.
+  bool cached() const;
+  /// The lifts file of `frame` beside the guide cache, in coat order; none when neither it nor the
+  /// guide cache's file of `frame` exists (before the cache's first frame). Throws InputError naming
+  /// the file when it is missing beside a cache frame, malformed, of another frame, or lacks a feather.
+  std::optional<feathers::SkinPassState> read_cached_state(int frame) const;
+  /// The skin pass's state at frame - 1 (null at a first frame), replaying the frames between the
+  /// last one carried and `frame` when needed. Call before base_->guides_at(frame): a replay asks
+  /// for earlier frames' stems.
+  const feathers::SkinPassState *warm_start(int frame);
+
+  PipelineOptions options_;
+  feathers::SkinPassState state_;  // the skin pass at state_frame_
+  std::optional<int> state_frame_;
+  feathers::SkinPassState cached_state_;  // read from the cache for the frame being produced
 };
 
 }  // namespace plume

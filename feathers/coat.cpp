@@ -228,115 +228,173 @@ int skin_samples(const FeatherShape &shape, const Spine &spine, float clearance,
 }
 constexpr int kMaxSkinSamples = 1 + 5 * kSkinRows + 5 * 3;
 
-/// The smallest turn `a` about `axis` (through `root`, raising the feather) in [0, max_lift] after
-/// which every sample clears the skin by its clearance. Each sample's deficit (clearance - signed
-/// distance) is measured in the turn it asks for: divided by the rate at which lifting raises it,
-/// n . (axis x p) (n the skin's side normal at its closest point), but never by less than
-/// kMinimumRate times its distance p from the root. That keeps the answer well conditioned: a rigid
-/// motion of the skin changes the distances by their rounding only, and the turn by at most that over
-/// kMinimumRate |p|. The turn is the first root of the largest of these, found from below by Newton
-/// steps and to 1e-6 radians by bisection (finer, the distances' float rounding would not resolve). Where that does not converge (a sample in a fold of the
-/// skin, whose closest point is on another part), a scan of the whole range for the first angle that
-/// clears, refined by bisection; with none, the angle of the smallest worst deficit. Queries are
-/// skipped for samples that a bound shows to clear (the distance is 1-Lipschitz): their last
-/// distance less the way they moved since, or, on a closed skin, a nearby sample's distance at this
-/// angle less how far apart the two are (a turn keeps that). Only the sign of a clearing answer is
-/// used, and a sample that does not clear is always queried, so the skips change no result.
+/// The skin pass's search for one feather: turns `a` about `axis` (through `root`, raising the
+/// feather) in [0, max_lift] after which every sample clears the skin by its clearance. Each sample's
+/// deficit (clearance - signed distance) is measured in the turn it asks for: divided by the rate at
+/// which lifting raises it, n . (axis x p) (n the skin's side normal at its closest point), but never
+/// by less than kMinimumRate times its distance p from the root. That keeps the answer well
+/// conditioned: a rigid motion of the skin changes the distances by their rounding only, and the turn
+/// by at most that over kMinimumRate |p|. Queries are skipped for samples that a bound shows to clear
+/// (the distance is 1-Lipschitz): their last distance less the way they moved since, or, on a closed
+/// skin, a nearby sample's distance at this angle less how far apart the two are (a turn keeps that).
+/// Only the sign of a clearing answer is used, and a sample that does not clear is always queried, so
+/// the skips change no result.
 struct Lift {
   float angle = 0.0f;
   float scale = 1.0f;
 };
 
-Lift lift_off_skin(const SkinSample *samples, int count, const Eigen::Vector3f &root, const Eigen::Vector3f &axis,
-                   float max_lift, const skin::SkinGrid &grid, const MeshQuery &query, int hint) {
-  constexpr float kMinimumRate = 0.3f;
-  std::array<float, kMaxSkinSamples> known_distance, known_at, known_rate;
-  known_distance.fill(-INFINITY);
-  known_at.fill(0.0f);
-  known_rate.fill(1.0f);
-  // How far each sample is from its nearby ones (a turn about the root keeps it), and the rounding a
-  // bound through them must beat: the distances are floats at the skin's coordinates.
-  std::array<std::array<float, 2>, kMaxSkinSamples> apart;
-  const bool closed = !grid.has_open_edges();
-  for (int s = 0; s < count; ++s)
-    for (size_t k = 0; k < 2; ++k) {
-      const int other = samples[s].near[k];
-      apart[size_t(s)][k] = other >= 0 ? (samples[s].point - samples[other].point).norm() : INFINITY;
-    }
-  const float rounding = 1e-5f * root.cwiseAbs().maxCoeff();
+class LiftSearch {
+ public:
+  LiftSearch(const SkinSample *samples, int count, const Eigen::Vector3f &root, const Eigen::Vector3f &axis,
+             float max_lift, const skin::SkinGrid &grid, const MeshQuery &query, int hint)
+      : samples_(samples), count_(count), root_(root), axis_(axis), max_lift_(max_lift), grid_(grid), query_(query),
+        hint_(hint), closed_(!grid.has_open_edges()), rounding_(1e-5f * root.cwiseAbs().maxCoeff()) {
+    known_distance_.fill(-INFINITY);
+    known_at_.fill(0.0f);
+    known_rate_.fill(1.0f);
+    known_triangle_.fill(-1);
+    for (int s = 0; s < count; ++s)
+      for (size_t k = 0; k < 2; ++k) {
+        const int other = samples[s].near[k];
+        apart_[size_t(s)][k] = other >= 0 ? (samples[s].point - samples[other].point).norm() : INFINITY;
+      }
+  }
+
+  /// The largest turn the samples ask for at `angle` (not positive when they all clear by hold_ times
+  /// their clearance).
+  float evaluate(float angle);
+  bool clears(float angle) { return !(evaluate(angle) > 0.0f); }
+
+  /// The stateless answer: the smallest turn that clears; where none does, the feather shrunk toward
+  /// its root at the turn of the smallest worst deficit until it clears.
+  Lift smallest() {
+    float best = 0.0f;
+    if (const std::optional<float> angle = first_clearing(0.0f, best)) return {*angle, 1.0f};
+    return shrunk_at(best);
+  }
+
+  /// The warm start from the previous frame's turn `previous` and size `previous_scale`: while
+  /// `previous` still clears, the turn falls toward the smallest that clears by at most `fall` (radians)
+  /// and stays in the interval of clearing turns it was in. When it no longer clears, the smallest turn
+  /// that clears when that is within kFollow of it; else the feather stays where it is while its
+  /// samples keep kHold of their clearance; else the smallest turn that clears, or, with none, the
+  /// feather shrunk at the turn of the smallest worst deficit, as without a warm start. A feather that
+  /// was shrunk grows back by at most `fall` of its size per frame, where that size clears.
+  Lift warm(float previous, float previous_scale, float fall);
+
+ private:
+  /// The smallest turn in [from, max_lift] that clears: from below by Newton steps on the largest
+  /// deficit, to 1e-6 radians by bisection (finer, the distances' float rounding would not resolve);
+  /// where that does not converge (a sample in a fold of the skin, whose closest point is on another
+  /// part), a scan of the range for the first turn that clears, refined by bisection. None when no
+  /// turn clears; r_best is then the turn of the smallest worst deficit the scan saw.
+  std::optional<float> first_clearing(float from, float &r_best);
+  /// Whether every sample clears at `angle` with the feather at `scale` of its size (clearances
+  /// shrink with it).
+  bool clears_scaled(float angle, float scale) const;
+  /// The largest size that clears at `angle` (bisection).
+  Lift shrunk_at(float angle) const;
+
+  static constexpr float kMinimumRate = 0.3f;
+  /// The warm start keeps a feather where it is, rather than move it farther than kFollow radians,
+  /// while its samples keep kHold of their clearance.
+  static constexpr float kHold = 0.75f;
+  static constexpr float kFollow = 0.2f;
+  const SkinSample *samples_;
+  int count_;
+  Eigen::Vector3f root_, axis_;
+  float max_lift_;
+  const skin::SkinGrid &grid_;
+  const MeshQuery &query_;
+  int hint_;
+  /// The part of their clearance the samples must keep (1, or kHold where a feather stays put).
+  float hold_ = 1.0f;
+  bool closed_;
+  // The rounding a bound through nearby samples must beat: the distances are floats at the skin's
+  // coordinates.
+  float rounding_;
+  std::array<float, kMaxSkinSamples> known_distance_, known_at_, known_rate_;
+  // How far each sample is from its nearby ones (a turn about the root keeps it).
+  std::array<std::array<float, 2>, kMaxSkinSamples> apart_;
   // A lower bound of each sample's signed distance at the angle being evaluated.
-  std::array<float, kMaxSkinSamples> lower;
+  std::array<float, kMaxSkinSamples> lower_;
   // Per sample, its closest triangle when last queried, and at this angle (-1: not queried).
-  std::array<int, kMaxSkinSamples> known_triangle, near_triangle;
-  known_triangle.fill(-1);
-  // The largest turn the samples ask for at `angle` (negative when they all clear).
-  auto evaluate = [&](float angle) {
-    const Eigen::Matrix3f turn = Eigen::AngleAxisf(angle, axis).toRotationMatrix();
-    near_triangle.fill(-1);
-    float worst = -INFINITY;
-    for (int s = 0; s < count; ++s) {
-      const float reach = samples[s].point.norm();
-      const float moved = std::abs(angle - known_at[size_t(s)]) * reach;
-      if (known_distance[size_t(s)] - moved - samples[s].clearance > 0.0f) {
-        lower[size_t(s)] = known_distance[size_t(s)] - moved;
-        worst = std::max(worst, (samples[s].clearance - lower[size_t(s)]) / known_rate[size_t(s)]);
+  std::array<int, kMaxSkinSamples> known_triangle_, near_triangle_;
+};
+
+float LiftSearch::evaluate(float angle) {
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(angle, axis_).toRotationMatrix();
+  near_triangle_.fill(-1);
+  float worst = -INFINITY;
+  for (int s = 0; s < count_; ++s) {
+    const size_t si = size_t(s);
+    const float clearance = hold_ * samples_[s].clearance;
+    const float reach = samples_[s].point.norm();
+    const float moved = std::abs(angle - known_at_[si]) * reach;
+    if (known_distance_[si] - moved - clearance > 0.0f) {
+      lower_[si] = known_distance_[si] - moved;
+      worst = std::max(worst, (clearance - lower_[si]) / known_rate_[si]);
+      continue;
+    }
+    if (closed_) {
+      float bound = -INFINITY;
+      for (size_t k = 0; k < 2; ++k)
+        if (samples_[s].near[k] >= 0) bound = std::max(bound, lower_[size_t(samples_[s].near[k])] - apart_[si][k]);
+      if (bound - clearance > rounding_ + 1e-5f * reach) {
+        lower_[si] = bound;
+        worst = std::max(worst, (clearance - bound) / known_rate_[si]);
         continue;
       }
-      if (closed) {
-        float bound = -INFINITY;
-        for (size_t k = 0; k < 2; ++k)
-          if (samples[s].near[k] >= 0) bound = std::max(bound, lower[size_t(samples[s].near[k])] - apart[size_t(s)][k]);
-        if (bound - samples[s].clearance > rounding + 1e-5f * reach) {
-          lower[size_t(s)] = bound;
-          worst = std::max(worst, (samples[s].clearance - bound) / known_rate[size_t(s)]);
-          continue;
-        }
-      }
-      const Eigen::Vector3f relative = turn * samples[s].point;
-      // The search starts from the sample's last closest triangle, else its nearby sample's at this
-      // angle, else the follicle's: the nearer the start, the fewer cells searched.
-      const int near = samples[s].near[0];
-      const int start = known_triangle[size_t(s)] >= 0 ? known_triangle[size_t(s)]
-                        : near >= 0 && near_triangle[size_t(near)] >= 0 ? near_triangle[size_t(near)]
-                                                                          : hint;
-      SurfacePoint closest;
-      const float distance = grid.signed_distance(root + relative, start, closest);
-      known_triangle[size_t(s)] = closest.triangle;
-      near_triangle[size_t(s)] = closest.triangle;
-      const float rate = std::max(query.side_normal(closest).dot(axis.cross(relative)), kMinimumRate * reach);
-      known_distance[size_t(s)] = distance;
-      known_at[size_t(s)] = angle;
-      known_rate[size_t(s)] = std::max(rate, 1e-30f);
-      lower[size_t(s)] = distance;
-      worst = std::max(worst, (samples[s].clearance - distance) / known_rate[size_t(s)]);
     }
-    return worst;
-  };
-  float needed = evaluate(0.0f);
-  if (!(needed > 0.0f)) return {};
-  float below = 0.0f, above = INFINITY;
+    const Eigen::Vector3f relative = turn * samples_[s].point;
+    // The search starts from the sample's last closest triangle, else its nearby sample's at this
+    // angle, else the follicle's: the nearer the start, the fewer cells searched.
+    const int near = samples_[s].near[0];
+    const int start = known_triangle_[si] >= 0                             ? known_triangle_[si]
+                      : near >= 0 && near_triangle_[size_t(near)] >= 0 ? near_triangle_[size_t(near)]
+                                                                         : hint_;
+    SurfacePoint closest;
+    const float distance = grid_.signed_distance(root_ + relative, start, closest);
+    known_triangle_[si] = closest.triangle;
+    near_triangle_[si] = closest.triangle;
+    const float rate = std::max(query_.side_normal(closest).dot(axis_.cross(relative)), kMinimumRate * reach);
+    known_distance_[si] = distance;
+    known_at_[si] = angle;
+    known_rate_[si] = std::max(rate, 1e-30f);
+    lower_[si] = distance;
+    worst = std::max(worst, (clearance - distance) / known_rate_[si]);
+  }
+  return worst;
+}
+
+std::optional<float> LiftSearch::first_clearing(float from, float &r_best) {
+  float needed = evaluate(from);
+  r_best = from;
+  if (!(needed > 0.0f)) return from;
+  float below = from, above = INFINITY;
   for (int iteration = 0; iteration < 4 * kLiftIterations && !(above - below < 1e-6f); ++iteration) {
-    float next = std::min(below + needed, max_lift);
-    if (next >= above || !(next > below)) next = 0.5f * (below + (above < INFINITY ? above : max_lift));
+    float next = std::min(below + needed, max_lift_);
+    if (next >= above || !(next > below)) next = 0.5f * (below + (above < INFINITY ? above : max_lift_));
     if (!(next > below)) break;
     const float f = evaluate(next);
     // Within a micro-radian of the root: the distances' rounding cannot resolve more.
-    if (f > 0.0f && f < 1e-6f && next + f <= max_lift) return {next + f, 1.0f};
+    if (f > 0.0f && f < 1e-6f && next + f <= max_lift_) return next + f;
     if (f > 0.0f) {
       below = next;
       needed = f;
-      if (below >= max_lift) break;
+      if (below >= max_lift_) break;
     } else {
       above = next;
       needed = 0.5f * (above - below);
     }
   }
-  if (above < INFINITY) return {above, 1.0f};
+  if (above < INFINITY) return above;
   constexpr int kScanSteps = 24;
   float best = below, best_deficit = evaluate(below);
-  float previous = 0.0f;
+  float previous = from;
   for (int k = 1; k <= kScanSteps; ++k) {
-    const float angle = max_lift * float(k) / float(kScanSteps);
+    const float angle = from + (max_lift_ - from) * float(k) / float(kScanSteps);
     const float deficit = evaluate(angle);
     if (!(deficit > 0.0f)) {
       float lo = previous, hi = angle;
@@ -344,7 +402,7 @@ Lift lift_off_skin(const SkinSample *samples, int count, const Eigen::Vector3f &
         const float mid = 0.5f * (lo + hi);
         (evaluate(mid) > 0.0f ? lo : hi) = mid;
       }
-      return {hi, 1.0f};
+      return hi;
     }
     if (deficit < best_deficit) {
       best_deficit = deficit;
@@ -352,24 +410,79 @@ Lift lift_off_skin(const SkinSample *samples, int count, const Eigen::Vector3f &
     }
     previous = angle;
   }
-  // No turn clears it (two parts of the skin close on it, as a folding wing over the back): at the
-  // best turn, the feather is shrunk toward its root until it clears (the largest such size, by
-  // bisection; clearances shrink with it).
-  const Eigen::Matrix3f turn = Eigen::AngleAxisf(best, axis).toRotationMatrix();
-  auto clears_at = [&](float scale) {
-    for (int s = 0; s < count; ++s) {
-      SurfacePoint closest;
-      if (grid.signed_distance(root + scale * (turn * samples[s].point), hint, closest) < scale * samples[s].clearance)
-        return false;
-    }
-    return true;
-  };
+  r_best = best;
+  return std::nullopt;
+}
+
+bool LiftSearch::clears_scaled(float angle, float scale) const {
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(angle, axis_).toRotationMatrix();
+  for (int s = 0; s < count_; ++s) {
+    SurfacePoint closest;
+    if (grid_.signed_distance(root_ + scale * (turn * samples_[s].point), hint_, closest) < scale * samples_[s].clearance)
+      return false;
+  }
+  return true;
+}
+
+// No turn clears it (two parts of the skin close on it, as a folding wing over the back): at the
+// best turn, the feather is shrunk toward its root until it clears (the largest such size, by
+// bisection; clearances shrink with it).
+Lift LiftSearch::shrunk_at(float angle) const {
   float lo = 0.0f, hi = 1.0f;
   for (int b = 0; b < 16; ++b) {
     const float mid = 0.5f * (lo + hi);
-    (clears_at(mid) ? lo : hi) = mid;
+    (clears_scaled(angle, mid) ? lo : hi) = mid;
   }
-  return {best, lo};
+  return {angle, lo};
+}
+
+Lift LiftSearch::warm(float previous, float previous_scale, float fall) {
+  const float from = std::clamp(previous, 0.0f, max_lift_);
+  Lift lift;
+  if (clears(from)) {
+    // Down toward the smallest turn that clears, by at most `fall`, without leaving the interval.
+    const float target = std::max(from - fall, 0.0f);
+    lift.angle = from;
+    if (target < from) {
+      if (clears(target)) {
+        lift.angle = target;
+      } else {
+        float lo = target, hi = from;
+        while (hi - lo > 1e-6f) {
+          const float mid = 0.5f * (lo + hi);
+          (clears(mid) ? hi : lo) = mid;
+        }
+        lift.angle = hi;
+      }
+    }
+  } else {
+    // Pushed out of its interval: the smallest turn that clears, as without a warm start, but a
+    // feather that would move farther than kFollow stays where it is while its samples keep kHold of
+    // their clearance (it leaves its interval only when it must).
+    const auto holds = [&] {
+      hold_ = kHold;
+      const bool kept = clears(from);
+      hold_ = 1.0f;
+      return kept;
+    };
+    float best = 0.0f;
+    const std::optional<float> smallest_turn = first_clearing(0.0f, best);
+    if (smallest_turn && std::abs(*smallest_turn - from) <= kFollow) {
+      lift.angle = *smallest_turn;
+    } else if (holds()) {
+      lift.angle = from;
+    } else if (smallest_turn) {
+      lift.angle = *smallest_turn;
+    } else {
+      return shrunk_at(best);
+    }
+  }
+  // A shrunk feather grows back gradually, at a turn that clears it whole.
+  if (previous_scale < 1.0f) {
+    const float scale = std::min(1.0f, previous_scale + fall);
+    if (scale < 1.0f && clears_scaled(lift.angle, scale)) lift.scale = scale;
+  }
+  return lift;
 }
 
 }  // namespace
@@ -631,7 +744,7 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
   if (layers_ && n > 0) {
     const MeshQuery rest_query(rest_mesh);
     CoatFrame rest;
-    grow_feathers(rest_mesh, rest_query, stems.strands, rest, nullptr);
+    grow_feathers(rest_mesh, rest_query, stems.strands, nullptr, rest.skin_pass, &rest, nullptr);
     order_ = layer_order_from_coverage(rest, ranges(), order_keys(rest_mesh, desc, layer_map));
   }
 }
@@ -727,47 +840,63 @@ Eigen::Vector3f Coat::blend_stems(const StemFrame &frames, size_t i, float z) co
 }
 
 void Coat::grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
-                const skin::SkinGrid *skin_grid) const {
+                const skin::SkinGrid *skin_grid, const SkinPassState *previous) const {
   // One grid of the posed skin serves the skin pass and the layering pass.
   std::optional<skin::SkinGrid> own_grid;
   const bool layered = layers_ && !order_.bottom_up.empty();
   if (!skin_grid && (lift_ || layered)) skin_grid = &own_grid.emplace(posed, query);
-  grow_feathers(posed, query, stems, r_frame, skin_grid);
+  grow_feathers(posed, query, stems, previous, r_frame.skin_pass, &r_frame, skin_grid);
   r_frame.layering = {};
   if (layered) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame, skin_grid);
 }
 
-void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
+void Coat::skin_pass(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, const SkinPassState *previous,
+                     SkinPassState &r_state, const skin::SkinGrid *skin_grid) const {
+  grow_feathers(posed, query, stems, previous, r_state, nullptr, skin_grid);
+}
+
+void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems,
+                         const SkinPassState *previous, SkinPassState &r_state, CoatFrame *r_frame,
                          const skin::SkinGrid *skin_grid) const {
   if (stems.offsets != stem_offsets_)
     throw InputError("feathers: the guide stems of this frame (" + std::to_string(stems.strand_count()) +
                      " stems, " + std::to_string(stems.point_count()) +
                      " points) do not match the stems the coat was bound to");
+  if (previous && previous->empty()) previous = nullptr;
+  if (previous && (previous->lifts.size() != size() || previous->scales.size() != size()))
+    throw InputError("feathers: the skin pass's state of the frame before holds " +
+                     std::to_string(previous->lifts.size()) + " feathers, expected the coat's " +
+                     std::to_string(size()));
+  const SkinPassState *const before = previous;
   std::optional<skin::SkinGrid> own_grid;
   if (lift_ && !skin_grid) skin_grid = &own_grid.emplace(posed, query);
   const StemFrame stem_frames = stem_frame(posed, stems, stem_roots_);
 
   const size_t n = size();
-  FeatherCurves &curves = r_frame.curves;
-  VaneMesh &vanes = r_frame.vanes;
-  curves.curves.offsets = curve_offsets_;
-  curves.curves.positions.resize(size_t(total_.points));
-  curves.curves.widths.resize(size_t(total_.points));
-  curves.curves.ids.resize(size_t(total_.curves));
-  curves.parts.resize(size_t(total_.curves));
-  curves.templates.resize(size_t(total_.curves));
-  curves.feathers.resize(size_t(total_.curves));
-  curves.uv_barb.resize(size_t(total_.points));
-  curves.uv_vane.resize(size_t(total_.points));
-  vanes.positions.resize(size_t(total_.vane_vertices));
-  vanes.uv_barb.resize(size_t(total_.vane_vertices));
-  vanes.uv_vane.resize(size_t(total_.vane_vertices));
-  vanes.triangles.resize(size_t(total_.vane_triangles));
-  vanes.triangle_feathers.resize(size_t(total_.vane_triangles));
-  vanes.triangle_templates.resize(size_t(total_.vane_triangles));
-  r_frame.root_frames.resize(n);
-  r_frame.lifts.resize(n);
-  r_frame.scales.resize(n);
+  r_state.lifts.resize(n);
+  r_state.scales.resize(n);
+  if (r_frame) {
+    FeatherCurves &curves = r_frame->curves;
+    VaneMesh &vanes = r_frame->vanes;
+    curves.curves.offsets = curve_offsets_;
+    curves.curves.positions.resize(size_t(total_.points));
+    curves.curves.widths.resize(size_t(total_.points));
+    curves.curves.ids.resize(size_t(total_.curves));
+    curves.parts.resize(size_t(total_.curves));
+    curves.templates.resize(size_t(total_.curves));
+    curves.feathers.resize(size_t(total_.curves));
+    curves.uv_barb.resize(size_t(total_.points));
+    curves.uv_vane.resize(size_t(total_.points));
+    vanes.positions.resize(size_t(total_.vane_vertices));
+    vanes.uv_barb.resize(size_t(total_.vane_vertices));
+    vanes.uv_vane.resize(size_t(total_.vane_vertices));
+    vanes.triangles.resize(size_t(total_.vane_triangles));
+    vanes.triangle_feathers.resize(size_t(total_.vane_triangles));
+    vanes.triangle_templates.resize(size_t(total_.vane_triangles));
+    r_frame->root_frames.resize(n);
+    r_frame->lifts.resize(n);
+    r_frame->scales.resize(n);
+  }
 
   bool finite = true;
 #pragma omp parallel for schedule(dynamic, 16) reduction(&& : finite)
@@ -775,7 +904,6 @@ void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const Strand
     const size_t i = size_t(fi);
     const FeatherShape &shape = shapes_[i];
     const SurfaceFrame skin = surface_frame(posed, points_[i]);
-    r_frame.root_frames[i] = skin;
     Spine spine;
     const float length = shape.main.calamus_length + shape.main.rachis_length;
     spine.step = length / float(kSpineSegments);
@@ -822,14 +950,25 @@ void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const Strand
         const float max_lift = std::acos(std::clamp(shaft.dot(normal), -1.0f, 1.0f));
         SkinSample samples[kMaxSkinSamples];
         const int count = skin_samples(shape, spine, clearance_, samples);
-        const Lift found = lift_off_skin(samples, count, skin.origin, axis, max_lift, *skin_grid, query, points_[i].triangle);
+        LiftSearch search(samples, count, skin.origin, axis, max_lift, *skin_grid, query, points_[i].triangle);
+        float reach = 0.0f;
+        for (int s = 0; s < count; ++s) reach = std::max(reach, samples[s].point.norm());
+        const Lift found = before ? search.warm(before->lifts[i], before->scales[i],
+                                                kFallBackWidths * shape.main.rachis_width / reach)
+                                  : search.smallest();
         lift = found.angle;
         spine.scale = found.scale;
         if (lift > 0.0f) spine.turn(Eigen::AngleAxisf(lift, axis).toRotationMatrix());
       }
     }
-    r_frame.lifts[i] = lift;
-    r_frame.scales[i] = spine.scale;
+    r_state.lifts[i] = lift;
+    r_state.scales[i] = spine.scale;
+    if (!r_frame) continue;
+    r_frame->root_frames[i] = skin;
+    r_frame->lifts[i] = lift;
+    r_frame->scales[i] = spine.scale;
+    FeatherCurves &curves = r_frame->curves;
+    VaneMesh &vanes = r_frame->vanes;
 
     const int64_t first_curve = first_curve_[i], first_point = first_point_[i], end_curve = first_curve_[i + 1];
     emit_curves(shape, detail_, spine,

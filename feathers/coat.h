@@ -68,6 +68,15 @@ class KeyFeatherField {
   std::vector<double> radii_;
 };
 
+/// What the skin pass decided at one frame, per feather in coat order, before the layering pass turns
+/// feathers further: how far it turned each up about its root (radians, >= 0) and its size (1, or less
+/// where it shrank it). The next frame's skin pass starts from it (its warm start, Coat::grow).
+struct SkinPassState {
+  std::vector<float> lifts;
+  std::vector<float> scales;
+  bool empty() const { return lifts.empty(); }
+};
+
 /// One frame of a coat, emitter object space: per feather (in coat order) its curves and its vane
 /// meshes (feathers/build.h gives the order within a feather).
 struct CoatFrame {
@@ -79,6 +88,8 @@ struct CoatFrame {
   std::vector<SurfaceFrame> root_frames;
   std::vector<float> lifts;
   std::vector<float> scales;
+  /// The skin pass's own lifts and sizes (the layering pass's turns and shrinks not included).
+  SkinPassState skin_pass;
   /// What keeping the feathers apart did this frame (zeros when the coat has no layers).
   LayeringStats layering;
 };
@@ -114,9 +125,22 @@ class Coat {
   /// One frame: `posed` (the emitter at this frame, normals computed, the rest mesh's topology),
   /// `query` on it, `stems` the guide stems at this frame (same count and point counts as at binding).
   /// `skin_grid` (on posed and query) is used by the skin pass when the coat lifts feathers; it may be
-  /// null, then a grid is built. Throws InputError when the stems do not match the binding.
+  /// null, then a grid is built. `previous`: the skin pass's state at the frame before (its
+  /// warm start: each feather's turn stays in the interval of turns that clear it, falling back
+  /// toward the smallest such turn by at most kFallBackWidths of its rachis width per frame at its
+  /// farthest sample; pushed out of it, the feather moves to the smallest turn that clears when that
+  /// is near, else stays while it keeps three quarters of its clearance; docs/feathers.md); null or
+  /// empty at a first frame (each feather takes the smallest turn that clears it). Throws InputError
+  /// when the stems or `previous` do not match the binding.
   void grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
-            const skin::SkinGrid *skin_grid = nullptr) const;
+            const skin::SkinGrid *skin_grid = nullptr, const SkinPassState *previous = nullptr) const;
+  /// The skin pass alone (no curves, no vanes, no layering): the state grow() would leave in
+  /// r_frame.skin_pass. For frames whose coat is not written (a simulation, skipped frames).
+  void skin_pass(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, const SkinPassState *previous,
+                 SkinPassState &r_state, const skin::SkinGrid *skin_grid = nullptr) const;
+  /// How far the warm start lets a lift fall back (and a shrunk feather grow back) per frame: the
+  /// feather's farthest sample moves by at most this many rachis widths.
+  static constexpr float kFallBackWidths = 0.25f;
 
   /// Per feather, its key in the groom's layer order (feathers/layering.h): empty when the groom gives
   /// no order of its own (no key feather's `layer`, no `layers.map`, `front` or `rear`). `desc` is the
@@ -130,9 +154,9 @@ class Coat {
   FeatherRanges ranges() const { return {first_point_, first_vertex_, first_triangle_}; }
 
  private:
-  /// grow() without keeping feathers apart.
-  void grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
-                     const skin::SkinGrid *skin_grid) const;
+  /// grow() without keeping feathers apart; with r_frame null, the skin pass alone.
+  void grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, const SkinPassState *previous,
+                     SkinPassState &r_state, CoatFrame *r_frame, const skin::SkinGrid *skin_grid) const;
   struct Stem {
     int32_t guide = -1;
     float weight = 0.0f;

@@ -90,6 +90,89 @@ TEST_CASE("plume regrow grows feathers on the simulated stems, and the same from
   CHECK_FALSE(same("still_vanes.0008.obj", "full_vanes.0008.obj"));
 }
 
+TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a frame regrown alone from it is the "
+          "frame of a sequential run; a missing or malformed lifts file exits 2 naming it", "[feathers][cli]") {
+  ScratchDir scratch("feather_lifts");
+  // The cache, written with 1 and with 2 threads: the same bytes, a lifts file per frame.
+  for (const int threads : {1, 2}) {
+    const std::string dir = "cache" + std::to_string(threads) + "/";
+    const RunResult run = run_plume("simulate " + quoted(kBird) + " --frames 1-5 --threads " + std::to_string(threads) +
+                                        " --cache " + quoted(scratch / (dir + "stems.####.hair")),
+                                    scratch);
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    CHECK(run.out.find("feather lifts") != std::string::npos);
+  }
+  for (int frame = 1; frame <= 5; ++frame) {
+    const std::string name = "stems.000" + std::to_string(frame) + ".lifts";
+    const std::string one = read_text(scratch / ("cache1/" + name));
+    CHECK(one.rfind("plume feather lifts 1\nframe " + std::to_string(frame) + "\nfeathers ", 0) == 0);
+    CHECK(one == read_text(scratch / ("cache2/" + name)));
+  }
+  // The lifts differ between frames (the bird moves) and some feathers are lifted.
+  CHECK(read_text(scratch / "cache1/stems.0001.lifts") != read_text(scratch / "cache1/stems.0005.lifts"));
+  const auto regrow = [&](const std::string &frames, const std::string &name, const std::string &extra) {
+    return run_plume("regrow " + quoted(kBird) + " --frames " + frames + " --strands 300 --no-preview --out " +
+                         quoted(scratch / (name + ".####.usda")) + " --vanes " +
+                         quoted(scratch / (name + "_vanes.####.obj")) + extra,
+                     scratch);
+  };
+  const std::string cache = " --guides-cache " + quoted(scratch / "cache1/stems.####.hair");
+  RunResult run = regrow("1-5", "simulated", "");
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  run = regrow("1-5", "sequence", cache);
+  REQUIRE(run.exit_code == 0);
+  for (const int threads : {1, 2}) {
+    const std::string name = "alone" + std::to_string(threads);
+    run = regrow("4", name, cache + " --threads " + std::to_string(threads));
+    REQUIRE(run.exit_code == 0);
+    CHECK(read_text(scratch / (name + "_vanes.0004.obj")) == read_text(scratch / "sequence_vanes.0004.obj"));
+    CHECK(read_text(scratch / (name + ".0004.usda")) == read_text(scratch / "sequence.0004.usda"));
+  }
+  for (int frame = 1; frame <= 5; ++frame) {
+    INFO("frame " << frame);
+    const std::string name = "_vanes.000" + std::to_string(frame) + ".obj";
+    CHECK(read_text(scratch / ("sequence" + name)) == read_text(scratch / ("simulated" + name)));
+  }
+  // Frame 1, the cache's first, has no frame before, and no frame reads the last frame's lifts.
+  fs::remove(scratch / "cache1/stems.0005.lifts");
+  CHECK(regrow("1", "first", cache).exit_code == 0);
+  // A missing lifts file beside a cache frame, and malformed ones: exit 2, the file and line named.
+  fs::remove(scratch / "cache1/stems.0003.lifts");
+  run = regrow("4", "missing", cache);
+  CHECK(run.exit_code == 2);
+  CHECK(run.err.find("stems.0003.lifts") != std::string::npos);
+  CHECK(!fs::exists(scratch / "missing.0004.usda"));
+  const std::string lifts = scratch / "cache1/stems.0003.lifts";
+  const std::string valid = read_text(scratch / "cache2/stems.0003.lifts");
+  const size_t body = valid.find("\n", valid.find("# id")) + 1;
+  const size_t second_line = valid.find("\n", body) + 1;
+  for (const auto &[text, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"plume feather lifts 2\n", "stems.0003.lifts:1: header"},
+           {"plume feather lifts 1\nframe 2\nfeathers 0\n", "stems.0003.lifts:2: frame: expected 3"},
+           {valid.substr(0, body) + "7 nan 1\n" + valid.substr(second_line), ":5:"},
+           {valid.substr(0, body) + "7 0.5 2\n" + valid.substr(second_line), "scale"},
+           {valid.substr(0, second_line), "expected"},
+           {"plume feather lifts 1\nframe 3\nfeathers 99999999\n1 0 1\n", "expected 99999999 feathers, got 1"},
+           {"plume feather lifts 1\nframe 3\nfeathers 1\n1 0 1\n", "no feather id"},
+       }) {
+    std::ofstream(lifts, std::ios::binary) << text;
+    run = regrow("4", "bad", cache);
+    INFO(text.substr(0, 60) << "\n" << run.err);
+    CHECK(run.exit_code == 2);
+    CHECK(run.err.find(expected) != std::string::npos);
+    CHECK(run.err.find("stems.0003.lifts") != std::string::npos);
+  }
+  // A groom without feathers: its cache as before, no lifts.
+  const std::string hair = write_sintel_groom(scratch, "hair", "dynamics: {substeps: 2}\n");
+  run = run_plume("simulate " + quoted(hair) + " --frames 1-2 --cache " + quoted(scratch / "hair/g.####.hair"), scratch);
+  REQUIRE(run.exit_code == 0);
+  CHECK(fs::exists(scratch / "hair/g.0002.hair"));
+  CHECK(!fs::exists(scratch / "hair/g.0002.lifts"));
+  CHECK(run.out.find("feather lifts") == std::string::npos);
+}
+
 TEST_CASE("a feather frame passes plume check, curves and vane meshes", "[feathers][cli]") {
   ScratchDir scratch("feather_check");
   const RunResult run = run_plume("regrow " + quoted(kBird) + " --frames 13 --strands 1500 --out " +

@@ -1,0 +1,125 @@
+#include "io/feather_lifts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <unordered_set>
+
+#include "groom/error.h"
+#include "io/atomic_file.h"
+#include "io/file_scan.h"
+
+namespace plume::io {
+
+namespace {
+
+constexpr const char *kHeader = "plume feather lifts 1";
+constexpr float kPi = 3.14159265358979f;
+
+/// The next line that is not blank or a comment; false at the end.
+bool next_content(detail::LineCursor &cursor, std::string_view &r_rest) {
+  while (cursor.next()) {
+    r_rest = cursor.line();
+    if (const size_t hash = r_rest.find('#'); hash != std::string_view::npos) r_rest = r_rest.substr(0, hash);
+    std::string_view probe = r_rest;
+    if (!detail::LineCursor::take_token(probe).empty()) return true;
+  }
+  return false;
+}
+
+/// `keyword <integer>` on the next content line.
+long long keyword_value(detail::LineCursor &cursor, std::string_view keyword) {
+  std::string_view rest;
+  if (!next_content(cursor, rest))
+    throw InputError(FileLoc{cursor.path(), cursor.line_number()},
+                     std::string(keyword) + ": expected \"" + std::string(keyword) + " N\", got the end of the file");
+  const std::string_view token = detail::LineCursor::take_token(rest);
+  if (token != keyword)
+    cursor.fail(token, std::string(keyword) + ": expected \"" + std::string(keyword) + " N\", got " + detail::quoted(token));
+  const long long value = cursor.to_int(detail::LineCursor::take_token(rest), keyword);
+  if (const std::string_view extra = detail::LineCursor::take_token(rest); !extra.empty())
+    cursor.fail(extra, std::string(keyword) + ": expected one number, got more: " + detail::quoted(extra));
+  return value;
+}
+
+}  // namespace
+
+std::string feather_lifts_pattern(const std::string &guide_cache_pattern) {
+  const std::filesystem::path path(guide_cache_pattern);
+  return (path.parent_path() / path.stem()).string() + ".lifts";
+}
+
+void write_feather_lifts(const std::string &path, const FeatherLifts &lifts) {
+  std::string text = std::string(kHeader) + "\nframe " + std::to_string(lifts.frame) + "\nfeathers " +
+                     std::to_string(lifts.ids.size()) + "\n# id lift scale (radians; size, 1 when not shrunk)\n";
+  char line[96];
+  for (size_t i = 0; i < lifts.ids.size(); ++i) {
+    std::snprintf(line, sizeof line, "%llu %.9g %.9g\n", (unsigned long long)lifts.ids[i], double(lifts.lifts[i]),
+                  double(lifts.scales[i]));
+    text += line;
+  }
+  AtomicFile file(path);
+  file.write(text);
+  file.commit();
+}
+
+FeatherLifts read_feather_lifts(const std::string &path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    throw InputError(FileLoc{path}, std::filesystem::exists(path, error)
+                                        ? "feather lifts: not a file"
+                                        : "feather lifts: the file does not exist (plume simulate writes one "
+                                          "beside every guide cache frame of a feather groom)");
+  const std::string text = detail::read_file_bytes(path);
+  detail::LineCursor cursor(text, path);
+  std::string_view rest;
+  if (!next_content(cursor, rest))
+    throw InputError(FileLoc{path}, "feather lifts: expected \"" + std::string(kHeader) + "\", got an empty file");
+  while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
+  if (rest != kHeader)
+    cursor.fail("header: expected \"" + std::string(kHeader) + "\", got " + detail::quoted(rest));
+  FeatherLifts lifts;
+  const long long frame = keyword_value(cursor, "frame");
+  if (frame < -1000000000LL || frame > 1000000000LL) cursor.fail("frame: expected a frame number, got " + std::to_string(frame));
+  lifts.frame = int(frame);
+  const long long count = keyword_value(cursor, "feathers");
+  if (count < 0 || count > 100000000LL)
+    cursor.fail("feathers: expected a count in 0..100000000, got " + std::to_string(count));
+  // No more lines than the text can hold (a line takes at least 6 bytes): a wrong count allocates nothing.
+  const size_t expected = std::min(size_t(count), text.size() / 6);
+  lifts.ids.reserve(expected);
+  lifts.lifts.reserve(expected);
+  lifts.scales.reserve(expected);
+  std::unordered_set<uint64_t> seen;
+  while (next_content(cursor, rest)) {
+    const std::string what = "feather " + std::to_string(lifts.ids.size());
+    if ((long long)lifts.ids.size() == count)
+      cursor.fail(what + ": expected " + std::to_string(count) + " feathers (the count on the line \"feathers\"), "
+                                                                  "got more");
+    const std::string_view id_token = detail::LineCursor::take_token(rest);
+    const long long id = cursor.to_int(id_token, what + ": id");
+    if (id < 0) cursor.fail(id_token, what + ": id: expected a feather id (>= 0), got " + std::to_string(id));
+    if (!seen.insert(uint64_t(id)).second) cursor.fail(id_token, what + ": id " + std::to_string(id) + " repeated");
+    const std::string_view lift_token = detail::LineCursor::take_token(rest);
+    const float lift = cursor.to_float(lift_token, what + ": lift");
+    if (!(lift >= 0.0f && lift <= kPi + 1e-5f))
+      cursor.fail(lift_token, what + ": lift: expected radians in [0, pi], got " + detail::quoted(lift_token));
+    const std::string_view scale_token = detail::LineCursor::take_token(rest);
+    const float scale = cursor.to_float(scale_token, what + ": scale");
+    if (!(scale >= 0.0f && scale <= 1.0f))
+      cursor.fail(scale_token, what + ": scale: expected a size in [0, 1], got " + detail::quoted(scale_token));
+    if (const std::string_view extra = detail::LineCursor::take_token(rest); !extra.empty())
+      cursor.fail(extra, what + ": expected 3 values (id lift scale), got more: " + detail::quoted(extra));
+    lifts.ids.push_back(uint64_t(id));
+    lifts.lifts.push_back(lift);
+    lifts.scales.push_back(scale);
+  }
+  if ((long long)lifts.ids.size() != count)
+    throw InputError(FileLoc{path, cursor.line_number()},
+                     "feathers: expected " + std::to_string(count) + " feathers, got " +
+                         std::to_string(lifts.ids.size()) + " (a truncated file?)");
+  return lifts;
+}
+
+}  // namespace plume::io

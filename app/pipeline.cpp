@@ -238,11 +238,10 @@ FrameResult Pipeline::produce(int frame) {
   // search the skin through one grid built for this frame.
   std::vector<float> clearance;
   std::optional<skin::SkinGrid> skin_grid;
-  if (binding_->settings.method == InterpolationSettings::Method::streamline || !effects_->empty())
-    skin_grid.emplace(result.mesh, query);
-  const skin::SkinGrid *grid = skin_grid ? &*skin_grid : nullptr;
+  skin_grid.emplace(result.mesh, query);
+  const skin::SkinGrid *grid = &*skin_grid;
   interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance, grid);
-  effects_->apply(result.mesh, query, result.guides, groom_.interpolation.skin_margin, result.strands, clearance,
+  effects_->apply(result.mesh, query, result.guides, binding_->skin_margin, result.strands, clearance,
                   grid);
   return result;
 }

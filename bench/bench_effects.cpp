@@ -118,7 +118,7 @@ int main(int argc, char **argv) {
       strands = grown;
       const auto t0 = std::chrono::steady_clock::now();
       const double c0 = cpu_seconds();
-      stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance);
+      stack.apply(posed, posed_query, posed_guides, binding.skin_margin, strands, clearance);
       cpu.push_back(cpu_seconds() - c0);
       wall.push_back(seconds_since(t0));
     }
@@ -148,7 +148,7 @@ int main(int argc, char **argv) {
     interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance, &grid);
     const auto t1 = std::chrono::steady_clock::now();
     c0 = cpu_seconds();
-    stack.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance, &grid);
+    stack.apply(posed, posed_query, posed_guides, binding.skin_margin, strands, clearance, &grid);
     grow_and_stack.push_back(seconds_since(t0));
     stack_only.push_back(seconds_since(t1));
     cpu_stack.push_back(cpu_seconds() - c0);
@@ -178,7 +178,7 @@ int main(int argc, char **argv) {
     for (int r = 0; r < std::min(repeats, 3); ++r) {
       interp::grow(binding, posed, posed_query, roots, posed_guides, options, strands, &clearance);
       const double c0 = cpu_seconds();
-      single.apply(posed, posed_query, posed_guides, settings.skin_margin, strands, clearance);
+      single.apply(posed, posed_query, posed_guides, binding.skin_margin, strands, clearance);
       cpu.push_back(cpu_seconds() - c0);
     }
     std::printf("  %-32s %10.3f\n", names[e], median(cpu));

@@ -59,8 +59,9 @@ struct InterpolationSettings {
   int k = 4;                   // guides per root, in [1, max_guides_per_root]
   double radius = 0.0;         // 0: unlimited
   float falloff = 2.0f;        // weight ~ 1 / d^falloff
-  float skin_margin = 0.02f;   // scene units kept between strands and the skin
-  int lookahead_segments = 3;  // streamline: how far ahead on a guide the closest point may move per step
+  /// Scene units kept between strands and the skin; negative (the default): a tenth of the rest
+  /// guides' median segment length, so that the groom's scale does not matter.
+  float skin_margin = -1.0f;
   FileLoc loc;
 };
 

@@ -362,8 +362,7 @@ void GroomReader::read_interpolation(YamlMap &root, GroomDesc &groom) {
   s.k = int(interp.integer("k", s.k, 1, max_guides_per_root));
   s.radius = at_least_double(interp, "radius", s.radius, 0.0);
   s.falloff = above(interp, "falloff", s.falloff, 0.0f, max_falloff);
-  s.skin_margin = at_least(interp, "skin_margin", s.skin_margin, 0.0f);
-  s.lookahead_segments = int(interp.integer("lookahead", s.lookahead_segments, 1, max_points_per_strand - 1));
+  if (interp.has("skin_margin")) s.skin_margin = at_least(interp, "skin_margin", 0.0f, 0.0f);
   interp.finish();
 }
 
@@ -703,7 +702,7 @@ std::string describe_groom(const GroomDesc &groom) {
       << format_number(groom.width_tip) << "\n";
   const InterpolationSettings &s = groom.interpolation;
   out << "interpolation: " << methods[int(s.method)] << ", k " << s.k << ", falloff " << format_number(s.falloff)
-      << ", skin margin " << format_number(s.skin_margin) << "\n";
+      << ", skin margin " << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
   const PartingSettings &p = groom.partings;
   static const char *zone_sources[] = {"none", "face groups", "zone map", "hard lines"};
   out << "partings: zones " << zone_sources[int(p.zone_source)] << ", " << p.lines.size() << " lines\n";

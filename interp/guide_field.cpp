@@ -1,0 +1,323 @@
+#include "interp/guide_field.h"
+
+#include <algorithm>
+
+namespace plume::interp {
+
+namespace {
+
+/// The most cells the search grid may have: a larger grid takes larger cells.
+constexpr size_t max_cells = size_t(1) << 21;
+
+/// Closest point of piece `p` to x: its distance and the piece's unit tangent there. The parameter
+/// starts at the projection on the chord and takes three Newton steps on (c(t) - x) . c'(t) (a piece
+/// turns by a few degrees: the distance has one minimum on it), clamped to [0, 1]; the piece's end
+/// points are looked at too. Deterministic and continuous in x wherever the closest point is unique.
+void closest_on_piece(const GuidePiece &p, const Eigen::Vector3f &x, float &r_distance, Eigen::Vector3f &r_tangent) {
+  const Eigen::Vector3f chord = p.b + p.c + p.d;  // c(1) - c(0)
+  const float chord_sq = chord.squaredNorm();
+  float t = chord_sq > 0.0f ? std::clamp((x - p.a).dot(chord) / chord_sq, 0.0f, 1.0f) : 0.0f;
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    const Eigen::Vector3f at = p.a + t * (p.b + t * (p.c + t * p.d));
+    const Eigen::Vector3f first = p.b + t * (2.0f * p.c + 3.0f * t * p.d);
+    const Eigen::Vector3f second = 2.0f * p.c + 6.0f * t * p.d;
+    const Eigen::Vector3f offset = at - x;
+    const float slope = offset.dot(first), curvature = first.squaredNorm() + offset.dot(second);
+    if (!(curvature > 0.0f)) break;
+    t = std::clamp(t - slope / curvature, 0.0f, 1.0f);
+  }
+  float best = (p.a + t * (p.b + t * (p.c + t * p.d)) - x).squaredNorm();
+  for (const float end : {0.0f, 1.0f}) {
+    const float d = (p.a + end * (p.b + end * (p.c + end * p.d)) - x).squaredNorm();
+    if (d < best) {
+      best = d;
+      t = end;
+    }
+  }
+  r_distance = std::sqrt(best);
+  const Eigen::Vector3f first = p.b + t * (2.0f * p.c + 3.0f * t * p.d);
+  const float norm = first.norm();
+  r_tangent = norm > 0.0f ? Eigen::Vector3f(first / norm) : chord.normalized();
+}
+
+/// A lower bound of the distance from x to the piece: to its chord, less the sag.
+float piece_lower(const GuidePiece &p, const Eigen::Vector3f &x) {
+  const Eigen::Vector3f from = x - p.a;
+  const float along = std::clamp(from.dot(p.axis), 0.0f, p.chord);
+  return (from - along * p.axis).norm() - p.sag;
+}
+
+}  // namespace
+
+GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members,
+                       const FieldShape &shape, float cell)
+    : shape_(shape), cell_(cell) {
+  // Pieces: the guide's distinct points (a point within a millionth of a cell of the previous one is
+  // left out) joined by Hermite cubics. Unit tangents at inner points bisect the two chords meeting
+  // there; at the ends, the inner tangent mirrored about the end chord (exact on a circular arc).
+  const float tiny = 1e-6f * cell;
+  std::vector<Eigen::Vector3f> points, chords, tangents;
+  guide_begin_.assign(guides.strand_count(), 0);
+  guide_end_.assign(guides.strand_count(), 0);
+  for (const int32_t g : members) {
+    guide_begin_[size_t(g)] = guide_end_[size_t(g)] = int32_t(pieces_.size());
+    points.clear();
+    for (const Eigen::Vector3f &p : guides.points(size_t(g)))
+      if (points.empty() || (p - points.back()).norm() > tiny) points.push_back(p);
+    const size_t count = points.size();
+    if (count < 2) continue;  // a guide of no length shows no direction
+    chords.resize(count - 1);
+    for (size_t j = 0; j + 1 < count; ++j) chords[j] = (points[j + 1] - points[j]).normalized();
+    tangents.resize(count);
+    for (size_t j = 1; j + 1 < count; ++j) {
+      const Eigen::Vector3f sum = chords[j - 1] + chords[j];
+      tangents[j] = sum.norm() > 1e-6f ? Eigen::Vector3f(sum.normalized()) : chords[j];
+    }
+    auto mirror = [](const Eigen::Vector3f &inner, const Eigen::Vector3f &chord) {
+      const Eigen::Vector3f m = 2.0f * chord.dot(inner) * chord - inner;
+      return m.norm() > 1e-6f ? Eigen::Vector3f(m.normalized()) : chord;
+    };
+    tangents[0] = count > 2 ? mirror(tangents[1], chords[0]) : chords[0];
+    tangents[count - 1] = count > 2 ? mirror(tangents[count - 2], chords[count - 2]) : chords[0];
+    for (size_t j = 0; j + 1 < count; ++j) {
+      const Eigen::Vector3f &p0 = points[j], &p1 = points[j + 1];
+      const float length = (p1 - p0).norm();
+      const Eigen::Vector3f m0 = length * tangents[j], m1 = length * tangents[j + 1];
+      GuidePiece piece;
+      piece.a = p0;
+      piece.b = m0;
+      piece.c = 3.0f * (p1 - p0) - 2.0f * m0 - m1;
+      piece.d = 2.0f * (p0 - p1) + m0 + m1;
+      // The Bezier control points p0, p0 + m0/3, p1 - m1/3, p1 hold the piece (convex hull).
+      const Eigen::Vector3f control[4] = {p0, p0 + m0 / 3.0f, p1 - m1 / 3.0f, p1};
+      piece.centre = 0.25f * (control[0] + control[1] + control[2] + control[3]);
+      for (const Eigen::Vector3f &q : control) piece.radius = std::max(piece.radius, (q - piece.centre).norm());
+      piece.radius *= 1.0f + 1e-5f;  // rounding
+      piece.chord = length;
+      piece.axis = (p1 - p0) / length;
+      for (const Eigen::Vector3f &q : control) {
+        const float along = std::clamp((q - p0).dot(piece.axis), 0.0f, length);
+        piece.sag = std::max(piece.sag, (q - p0 - along * piece.axis).norm());
+      }
+      piece.sag = piece.sag * (1.0f + 1e-5f) + 1e-6f * length;  // rounding
+      piece.guide = g;
+      pieces_.push_back(piece);
+    }
+    guide_end_[size_t(g)] = int32_t(pieces_.size());
+  }
+  if (pieces_.empty()) return;
+
+  // The search grid: each piece listed in every cell its ball's box meets.
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  for (const GuidePiece &p : pieces_) {
+    lo = lo.cwiseMin(p.centre - Eigen::Vector3f::Constant(p.radius));
+    hi = hi.cwiseMax(p.centre + Eigen::Vector3f::Constant(p.radius));
+  }
+  const Eigen::Vector3f extent = hi - lo;
+  for (;;) {
+    for (int a = 0; a < 3; ++a) dims_[a] = std::max(1, int(std::ceil(extent[a] / cell_)));
+    if (size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z()) <= max_cells) break;
+    cell_ *= 1.5f;
+  }
+  origin_ = lo;
+  const size_t cell_count = size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z());
+  cell_offsets_.assign(cell_count + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int32_t> fill;
+    if (pass == 1) {
+      for (size_t c = 0; c < cell_count; ++c) cell_offsets_[c + 1] += cell_offsets_[c];
+      cell_pieces_.resize(size_t(cell_offsets_.back()));
+      fill.assign(cell_offsets_.begin(), cell_offsets_.end() - 1);
+    }
+    for (size_t i = 0; i < pieces_.size(); ++i) {
+      const GuidePiece &p = pieces_[i];
+      const Eigen::Vector3i from = cell_of(p.centre - Eigen::Vector3f::Constant(p.radius));
+      const Eigen::Vector3i to = cell_of(p.centre + Eigen::Vector3f::Constant(p.radius));
+      for (int z = from.z(); z <= to.z(); ++z)
+        for (int y = from.y(); y <= to.y(); ++y)
+          for (int x = from.x(); x <= to.x(); ++x) {
+            const size_t c = cell_index(x, y, z);
+            if (pass == 0)
+              ++cell_offsets_[c + 1];
+            else
+              cell_pieces_[size_t(fill[c]++)] = int32_t(i);
+          }
+    }
+  }
+}
+
+Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_)), 0, dims_[a] - 1);
+  return c;
+}
+
+void GuideField::gather(const Eigen::Vector3f &x, Cache &cache) const {
+  // An upper bound of the nearest guide's distance: the nearest piece's ball, found ring by ring of
+  // cells round x (a piece not met within ring k lies in cells of ring k + 1 or more, at least
+  // k cells away). Points outside the grid's box look at every piece.
+  float upper = INFINITY;
+  const Eigen::Vector3f box_lo = origin_, box_hi = origin_ + cell_ * dims_.cast<float>();
+  const bool inside = (x.array() >= box_lo.array()).all() && (x.array() <= box_hi.array()).all();
+  if (inside) {
+    const Eigen::Vector3i c0 = cell_of(x);
+    const int rings = dims_.maxCoeff();
+    for (int k = 0; k <= rings && !(float(k - 1) * cell_ >= upper); ++k)
+      for (int z = std::max(c0.z() - k, 0); z <= std::min(c0.z() + k, dims_.z() - 1); ++z)
+        for (int y = std::max(c0.y() - k, 0); y <= std::min(c0.y() + k, dims_.y() - 1); ++y)
+          for (int xi = std::max(c0.x() - k, 0); xi <= std::min(c0.x() + k, dims_.x() - 1); ++xi) {
+            if (std::max({std::abs(z - c0.z()), std::abs(y - c0.y()), std::abs(xi - c0.x())}) != k) continue;
+            const size_t c = cell_index(xi, y, z);
+            for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) {
+              const GuidePiece &p = pieces_[size_t(cell_pieces_[size_t(e)])];
+              upper = std::min(upper, (x - p.centre).norm() + p.radius);
+            }
+          }
+  } else {
+    for (const GuidePiece &p : pieces_) upper = std::min(upper, (x - p.centre).norm() + p.radius);
+  }
+  // Within `valid` of x: the nearest guide is nearer than upper + valid, so a guide weighs only if
+  // some piece of it lies within reach * (upper + valid) + valid of x; and a piece counts in its
+  // guide's tangent only within coil_reach times the guide's distance, which is below the guide's
+  // own bound plus valid. So the cache keeps, of the guides near enough, the pieces near enough.
+  const float valid = std::max(0.5f * upper, 0.5f * cell_);
+  const float radius = shape_.reach * (upper + valid) + valid;
+  std::vector<int32_t> &found = cache.order;
+  found.clear();
+  const Eigen::Vector3i from = cell_of(x - Eigen::Vector3f::Constant(radius));
+  const Eigen::Vector3i to = cell_of(x + Eigen::Vector3f::Constant(radius));
+  const size_t cells = size_t(to.x() - from.x() + 1) * size_t(to.y() - from.y() + 1) * size_t(to.z() - from.z() + 1);
+  auto consider = [&](int32_t i) {
+    const GuidePiece &p = pieces_[size_t(i)];
+    if ((x - p.centre).norm() - p.radius <= radius && (found.empty() || found.back() != p.guide))
+      found.push_back(p.guide);
+  };
+  if (!inside || cells > pieces_.size() / 4) {
+    for (size_t i = 0; i < pieces_.size(); ++i) consider(int32_t(i));
+  } else {
+    for (int z = from.z(); z <= to.z(); ++z)
+      for (int y = from.y(); y <= to.y(); ++y)
+        for (int xi = from.x(); xi <= to.x(); ++xi) {
+          const size_t c = cell_index(xi, y, z);
+          for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) consider(cell_pieces_[size_t(e)]);
+        }
+  }
+  std::sort(found.begin(), found.end());
+  found.erase(std::unique(found.begin(), found.end()), found.end());
+  cache.guides.clear();
+  for (const int32_t g : found) cache.guides.push_back({g, 0, 0, 0.0f, 0.0f});
+  cache.pieces.clear();
+  std::vector<Cache::Guide> kept;
+  for (const Cache::Guide &entry : cache.guides) {
+    const int32_t g = entry.guide;
+    float guide_upper = INFINITY, guide_lower = INFINITY;
+    for (int32_t i = guide_begin_[size_t(g)]; i < guide_end_[size_t(g)]; ++i) {
+      const GuidePiece &p = pieces_[size_t(i)];
+      const float lower = piece_lower(p, x);
+      guide_lower = std::min(guide_lower, lower);
+      guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+    }
+    const float piece_radius = shape_.coil_reach * (guide_upper + valid) + valid;
+    const int32_t begin = int32_t(cache.pieces.size());
+    for (int32_t i = guide_begin_[size_t(g)]; i < guide_end_[size_t(g)]; ++i)
+      if (piece_lower(pieces_[size_t(i)], x) <= piece_radius) cache.pieces.push_back(i);
+    kept.push_back({g, begin, int32_t(cache.pieces.size()), guide_lower, guide_upper});
+  }
+  cache.guides = std::move(kept);
+  cache.centre = x;
+  cache.valid = valid;
+}
+
+GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
+                                        const GuideAttenuation *attenuation) const {
+  Sample sample;
+  if (pieces_.empty()) return sample;
+  if (!((x - cache.centre).norm() <= cache.valid)) gather(x, cache);
+
+  // Guide bounds at x from the cache's (1-Lipschitz): the nearest guide is nearer than the smallest
+  // upper bound, and a guide every point of which is farther than reach times that does not weigh.
+  // Within a weighing guide, the piece of least lower bound (capsule about its chord) is computed
+  // first, then every piece that may lie within coil_reach times the guide's distance.
+  std::vector<Cache::Near> &near = cache.near;
+  near.clear();
+  const float moved = (x - cache.centre).norm();
+  float upper = INFINITY;
+  for (const Cache::Guide &g : cache.guides) upper = std::min(upper, g.upper + moved);
+  const float guide_limit = shape_.reach * upper;
+  for (const Cache::Guide &g : cache.guides) {
+    if (g.lower - moved >= guide_limit || g.begin == g.end) continue;
+    const size_t first = near.size();
+    size_t best = first;
+    for (int32_t e = g.begin; e < g.end; ++e) {
+      near.push_back({g.guide, piece_lower(pieces_[size_t(cache.pieces[size_t(e)])], x), INFINITY,
+                      Eigen::Vector3f::Zero()});
+      if (near.back().lower < near[best].lower) best = near.size() - 1;
+    }
+    Cache::Near &nearest_piece = near[best];
+    closest_on_piece(pieces_[size_t(cache.pieces[size_t(g.begin) + (best - first)])], x, nearest_piece.distance,
+                     nearest_piece.tangent);
+    float distance = nearest_piece.distance;
+    for (size_t j = first; j < near.size(); ++j) {
+      Cache::Near &n = near[j];
+      if (j == best || !(n.lower < shape_.coil_reach * distance)) continue;
+      closest_on_piece(pieces_[size_t(cache.pieces[size_t(g.begin) + (j - first)])], x, n.distance, n.tangent);
+      distance = std::min(distance, n.distance);
+    }
+  }
+  // Per guide (pieces come grouped by guide, in order): its distance d_g, the smallest of its
+  // pieces', and its effective distance, d_g / factor with an attenuation; the nearest of both.
+  float nearest = INFINITY, nearest_effective = INFINITY;
+  std::vector<float> &effective = cache.effective;
+  effective.assign(near.size(), INFINITY);
+  for (size_t begin = 0; begin < near.size();) {
+    size_t end = begin;
+    float distance = INFINITY;
+    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
+      distance = std::min(distance, near[end].distance);
+    float counted = distance;
+    if (attenuation && distance < INFINITY) {
+      const float factor = attenuation->factor(near[begin].guide);
+      counted = factor > 0.0f ? distance / factor : INFINITY;
+    }
+    std::fill(effective.begin() + ptrdiff_t(begin), effective.begin() + ptrdiff_t(end), counted);
+    nearest = std::min(nearest, distance);
+    nearest_effective = std::min(nearest_effective, counted);
+    begin = end;
+  }
+  sample.nearest = nearest;
+  const float hit = 1e-6f * cell_;
+  const bool on_guide = nearest <= hit;
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  float total = 0.0f;
+  for (size_t begin = 0; begin < near.size();) {
+    size_t end = begin;
+    float distance = INFINITY;
+    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
+      distance = std::min(distance, near[end].distance);
+    // On a guide: that guide alone (or the guides meeting there). Elsewhere 1/d (effective), faded
+    // out between (reach - 1) and reach times the nearest guide's.
+    const float counted = effective[begin];
+    const float weight = on_guide ? (distance <= hit ? 1.0f : 0.0f)
+                                  : (counted < INFINITY ? fade(counted / nearest_effective - (shape_.reach - 1.0f)) / counted
+                                                        : 0.0f);
+    if (weight > 0.0f) {
+      // The guide's tangent: its pieces' tangents, faded as they lie farther than the guide's distance.
+      Eigen::Vector3f tangent = Eigen::Vector3f::Zero();
+      for (size_t j = begin; j < end; ++j) {
+        const float share = on_guide ? (near[j].distance <= hit ? 1.0f : 0.0f)
+                                     : fade((near[j].distance / distance - 1.0f) / (shape_.coil_reach - 1.0f));
+        tangent += share * near[j].tangent;
+      }
+      const float norm = tangent.norm();
+      if (norm > 0.0f) {
+        sum += (weight / norm) * tangent;
+        total += weight;
+      }
+    }
+    begin = end;
+  }
+  if (total > 0.0f) sample.direction = sum / total;
+  return sample;
+}
+
+}  // namespace plume::interp

@@ -1,0 +1,131 @@
+// The velocity field that interpolated strands follow: at every point of space, the tangents of the
+// guides blended by their distances (Hair Designer's ratio-of-distances law), a function of position
+// only, continuous and Lipschitz, and on each guide that guide's own tangent. Maths and guarantees:
+// docs/interpolation.md, "The field".
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "groom/strand_set.h"
+
+namespace plume::interp {
+
+/// How the guides' tangents are blended. Both are ratios of distances: no unit.
+struct FieldShape {
+  /// A guide at distance d weighs 1/d, faded smoothly to 0 as d goes from (reach - 1) to reach times
+  /// the distance of the nearest guide: influence stays local (a far guide never bends a strand) and
+  /// a guide's entry is gradual.
+  float reach = 3.0f;
+  /// Along one guide, the tangent at the closest point of each piece counts with a weight that fades
+  /// from 1 when the piece is as near as the guide to 0 when it is `coil_reach` times farther: two
+  /// coils of a curl at nearly the same distance share the guide's tangent, so it never jumps from
+  /// one coil to the other.
+  float coil_reach = 1.25f;
+};
+
+/// One piece of a guide: the cubic Hermite curve between two consecutive guide points,
+/// c(t) = a + b t + c t^2 + d t^3 for t in [0, 1], with the guide's unit tangent at both ends times
+/// the chord's length as end derivatives. Consecutive pieces share their end point and tangent
+/// direction: each guide is a C1 curve through its points (tangent directions continuous).
+struct GuidePiece {
+  Eigen::Vector3f a, b, c, d;  // power basis
+  Eigen::Vector3f centre;      // a ball holding the piece: centre and radius
+  float radius = 0.0f;
+  /// A capsule holding the piece: its chord (from a, `chord` long along unit `axis`) thickened by
+  /// `sag`, the farthest Bezier control point from the chord.
+  Eigen::Vector3f axis = Eigen::Vector3f::UnitX();
+  float chord = 0.0f;
+  float sag = 0.0f;
+  int32_t guide = 0;           // index into the guides the field was built from
+};
+
+/// Scales guides' influence at one point of space (partial partings, docs/interpolation.md): an
+/// attenuated guide counts as if it were 1 / factor times farther.
+class GuideAttenuation {
+ public:
+  virtual ~GuideAttenuation() = default;
+  /// In [0, 1]; 1 leaves the guide as it is.
+  virtual float factor(int32_t guide) const = 0;
+};
+
+class GuideField {
+ public:
+  /// `guides`: the guides at this frame (any point counts >= 2, finite); `members`: the indices of
+  /// the guides this field blends (one hard zone), ascending; `cell`: the search grid's cell size
+  /// (scene units, > 0; about a guide segment). The field keeps no reference to `guides`.
+  GuideField(const StrandSet &guides, std::span<const int32_t> members, const FieldShape &shape, float cell);
+
+  /// The pieces near one point, kept by a strand from one evaluation to the next to spare searches.
+  /// It never changes an answer: it holds every piece that can matter within `valid` of `centre`.
+  struct Cache {
+    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+    float valid = -1.0f;          // nothing cached yet
+    std::vector<int32_t> pieces;  // ascending
+    /// The cached guides, ascending, each with its pieces' range in `pieces` and, at `centre`, lower
+    /// and upper bounds of its distance.
+    struct Guide {
+      int32_t guide, begin, end;
+      float lower, upper;
+    };
+    std::vector<Guide> guides;
+    /// Scratch of evaluate(): the listed pieces' distance bounds, and the closest points computed.
+    struct Near {
+      int32_t guide;
+      float lower;     // a lower bound of the piece's distance (its ball's)
+      float distance;  // the exact distance, or infinity when not computed
+      Eigen::Vector3f tangent;
+    };
+    std::vector<Near> near;
+    std::vector<int32_t> order;
+    std::vector<float> effective;  // scratch of evaluate(): per piece, its guide's effective distance
+  };
+
+  struct Sample {
+    /// The blend of the guides' unit tangents, sum_g w_g T_g / sum_g w_g, of length <= 1 (shorter
+    /// where the guides disagree; zero only where they cancel).
+    Eigen::Vector3f direction = Eigen::Vector3f::Zero();
+    /// Distance to the nearest guide (scene units); infinity when the field has no guide.
+    float nearest = INFINITY;
+  };
+  /// The field at x: w_g = fade(d_g / d_min - (reach - 1)) / d_g, with d_g the distance from x to
+  /// guide g's curve and d_min the nearest guide's; T_g the tangent of guide g at its closest points
+  /// (see FieldShape::coil_reach); on a guide (d_g within a millionth of a cell), that guide's tangent.
+  /// Thread-safe (the cache is the caller's).
+  /// `attenuation` (may be null): factors for the guides at x; a guide at distance d then counts
+  /// at d / factor (a factor of 0 removes it, except on the guide itself).
+  Sample evaluate(const Eigen::Vector3f &x, Cache &cache, const GuideAttenuation *attenuation = nullptr) const;
+
+  bool empty() const { return pieces_.empty(); }
+
+ private:
+  /// Fills the cache for point x (see Cache).
+  void gather(const Eigen::Vector3f &x, Cache &cache) const;
+  Eigen::Vector3i cell_of(const Eigen::Vector3f &p) const;
+  size_t cell_index(int x, int y, int z) const {
+    return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
+  }
+
+  FieldShape shape_;
+  std::vector<GuidePiece> pieces_;  // grouped by guide, in guide order, each guide's in order
+  float cell_ = 1.0f;
+  Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
+  std::vector<int32_t> cell_offsets_;  // CSR over cells: pieces whose ball's box meets the cell
+  std::vector<int32_t> cell_pieces_;
+  /// Per guide index (of the guides given): its pieces' range in pieces_ (empty for a non-member).
+  std::vector<int32_t> guide_begin_, guide_end_;
+};
+
+/// Smooth step from 1 (u <= 0) to 0 (u >= 1): 1 - 3u^2 + 2u^3 in between (C1).
+inline float fade(float u) {
+  if (u <= 0.0f) return 1.0f;
+  if (u >= 1.0f) return 0.0f;
+  return 1.0f - u * u * (3.0f - 2.0f * u);
+}
+
+}  // namespace plume::interp

@@ -20,6 +20,14 @@ done
 # The test suite loads written USD files with a reader nobody here wrote (tinyusdz, kept in
 # tests/third_party, under Node).
 if [[ "$mode" == test ]] && ! command -v node >/dev/null 2>&1; then missing+=(nodejs); fi
+
+# ---- The 3D viewer (plume view): three.js and esbuild come from npm, pinned by
+# viewer/package-lock.json and bundled into plume at build time, so both commands need Node and
+# npm; the test suite opens a written page in Debian's Chromium (headless, offline).
+if ! command -v node >/dev/null 2>&1 && [[ " ${missing[*]} " != *" nodejs "* ]]; then missing+=(nodejs); fi
+command -v npm >/dev/null 2>&1 || missing+=(npm)
+if [[ "$mode" == test ]] && ! command -v chromium >/dev/null 2>&1; then missing+=(chromium); fi
+# ---- end of the viewer's packages
 if ((${#missing[@]})); then
   if [[ $(id -u) -ne 0 ]]; then
     echo "Plume needs these Debian packages. Install them, then run this command again:" >&2
@@ -30,6 +38,13 @@ if ((${#missing[@]})); then
   apt-get update -qq
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
+
+# ---- The viewer's npm packages, as viewer/package-lock.json pins them (again when it changes).
+if [[ ! viewer/node_modules/.package-lock.json -nt viewer/package-lock.json ]]; then
+  echo "== npm ci in viewer/ (three.js, esbuild)"
+  (cd viewer && npm ci --no-audit --no-fund --loglevel=error)
+fi
+# ---- end of the viewer's npm packages
 
 jobs=$(nproc)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -44,6 +59,10 @@ if [[ "$mode" == demo ]]; then
   seconds=$(( $(date +%s) - start ))
   echo "== done in ${seconds} s: out/sintel/hair.0001.usda .. hair.0048.usda ($(du -sh out/sintel | cut -f1) in all)," \
        "previews out/sintel/preview.*.png (every 6 frames)"
+  echo "== the 3D view: every 4th frame into out/sintel/view.html (open it in a browser)"
+  start=$(date +%s)
+  build/app/plume view "$groom" --frames 1-48:4 --out out/sintel/view.html
+  echo "== done in $(( $(date +%s) - start )) s: out/sintel/view.html ($(du -h out/sintel/view.html | cut -f1))"
 else
   ctest --test-dir build --output-on-failure -j"$jobs"
 fi

@@ -1,21 +1,27 @@
-// `plume check STRANDS --mesh M.obj [--guides G] [--groom GROOM]`: checks Plume's promises on a
-// strand file (no point inside the skin, no crossing strands, no influence across a hard parting,
-// strands at guide roots follow their guide) and prints the figures. With --strict a violation
-// gives exit code 3.
+// `plume check STRANDS (--mesh M.obj | --groom GROOM [--frame N]) [--guides G] [--roots R] [--json]`:
+// checks Plume's promises on a strand file (no point inside the skin, no transversal crossing, no influence across a hard parting, strands at guide roots reproduce their
+// guide, every requested root has a strand) and prints the figures, as text or JSON. With --strict a
+// violation gives exit code 3. Rules: docs/check.md.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <unordered_map>
 
 #include "app/commands.h"
+#include "app/feather_commands.h"
+#include "app/pipeline.h"
+#include "check/check.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
-#include "check/check.h"
 #include "interp/interpolate.h"
-#include "partings/parting_field.h"
 #include "io/file_scan.h"
 #include "io/groom_file.h"
 #include "io/obj_mesh.h"
+#include "io/point_list.h"
 #include "io/strand_file.h"
+#include "partings/parting_field.h"
 
 namespace plume {
 
@@ -26,11 +32,28 @@ struct CheckArgs {
   std::string mesh;
   std::string guides;
   std::string groom;
+  std::string roots;
+  std::string guides_cache;
+  std::optional<int> frame;
   float tolerance = 0.0f;
+  float transversal_degrees = check::kTransversalDegrees;
   float margin = 0.0f;
+  double guide_limit_percent = 100.0 * check::kGuideDeviationLimit;
   int threads = 0;
   bool strict = false;
+  bool strict_touching = false;
+  bool json = false;
 };
+
+/// What was checked, for the report's header.
+struct CheckedScene {
+  std::string mesh;             // the mesh's file, or "GROOM's emitter at frame N"
+  std::optional<int> frame;     // with --groom
+  bool has_effects = false;     // the groom has an effects stack
+  size_t strands_off_groom_roots = 0;  // with --groom: strands growing from none of its roots
+};
+
+// ---- text -------------------------------------------------------------------------------------
 
 std::string id_list(const std::vector<uint64_t> &ids) {
   std::string text;
@@ -38,76 +61,434 @@ std::string id_list(const std::vector<uint64_t> &ids) {
   return text;
 }
 
-int run_check(const CheckArgs &args) {
-  std::optional<GroomDesc> groom;
-  if (!args.groom.empty()) groom = io::read_groom_file(args.groom);
-  const std::string mesh_path = !args.mesh.empty() ? args.mesh : groom ? groom->emitter_path : std::string();
-  if (mesh_path.empty()) throw InputError("--mesh: expected the emitter mesh (.obj), or --groom to take its emitter");
-  if (!args.mesh.empty() && io::detail::extension_of(args.mesh) != ".obj")
-    throw InputError("--mesh: expected an .obj mesh, got \"" + args.mesh + "\"");
-  set_thread_count(args.threads);
+std::string pair_list(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) {
+  std::string text;
+  for (const auto &[a, b] : pairs) text += (text.empty() ? "" : " ") + std::to_string(a) + "/" + std::to_string(b);
+  return text;
+}
 
-  const StrandSet strands = io::read_strands(args.strands);
-  const Mesh mesh = io::read_obj_mesh(mesh_path);
-  const MeshQuery query(mesh);
+void print_crossings(const char *title, const check::CrossingCount &count, float degrees, bool made_by_effects = false) {
+  std::printf("  %s (tolerance %g): %zu transversal (angle above %g degrees), %zu touching (near-parallel)",
+              title, double(count.tolerance), count.transversal_pairs, double(degrees), count.touching_pairs);
+  if (count.pairs > 0) std::printf(", largest angle %.1f degrees", count.largest_angle_degrees);
+  if (made_by_effects)
+    std::printf("; made by the effects (not crossing before them): %zu, %zu transversal", count.pairs_new,
+                count.transversal_pairs_new);
+  std::printf("\n");
+  if (!count.transversal_examples.empty())
+    std::printf("    transversal: %s\n", pair_list(count.transversal_examples).c_str());
+  if (!count.touching_examples.empty()) std::printf("    touching: %s\n", pair_list(count.touching_examples).c_str());
+}
 
-  check::CheckOptions options;
-  options.crossing_tolerance = args.tolerance;
-  options.skin_margin = args.margin;
-
-  std::optional<Guides> guides;
-  const std::string guides_path = !args.guides.empty() ? args.guides : groom ? groom->guides_path : std::string();
-  if (!guides_path.empty()) guides = bind_guides(query, io::read_strands(guides_path), guides_path);
-  if (guides && guides->size() == 0) {
-    if (!args.guides.empty()) throw InputError("--guides: " + guides_path + " holds no strands");
-    throw InputError(groom->guides_loc, "guides: " + guides_path + " holds no strands");
-  }
-
-  // The zone check binds the strands' roots with the groom's partings and interpolation settings.
-  std::unique_ptr<partings::PartingField> partings;
-  std::optional<Roots> roots;
-  std::optional<interp::Binding> binding;
-  if (groom && guides) {
-    partings = std::make_unique<partings::PartingField>(mesh, *guides, groom->partings);
-    roots = check::roots_of(strands, query);
-    binding = interp::bind(mesh, *guides, *roots, groom->interpolation, partings->empty() ? nullptr : partings.get());
-  }
-
-  // The only input check_strands refuses is a crossing tolerance beyond the crossing count's budget.
-  check::CheckReport report;
-  try {
-    report = check::check_strands(strands, query, options, guides ? &*guides : nullptr, partings.get(),
-                                   roots ? &*roots : nullptr, binding ? &*binding : nullptr);
-  } catch (const InputError &e) {
-    char tolerance[32];
-    std::snprintf(tolerance, sizeof tolerance, "%g", double(args.tolerance));
-    throw InputError(std::string("--tolerance ") + tolerance + ": " + e.what());
-  }
-
-  std::printf("%s: %zu strands, %zu points\n", args.strands.c_str(), report.strand_count, report.point_count);
-  std::printf("  points inside the skin (margin %g): %zu%s%s\n", double(args.margin), report.points_inside_skin,
+void print_text(const CheckArgs &args, const CheckedScene &scene, const check::CheckReport &report, int exit_code) {
+  std::printf("%s: %zu strands, %zu points, median segment %g\n", args.strands.c_str(), report.strand_count,
+              report.point_count, report.median_segment_length);
+  std::printf("  skin: %s\n", scene.mesh.c_str());
+  std::printf("  points inside the skin (margin %g): %zu%s%s\n", double(report.skin_margin), report.points_inside_skin,
               report.inside_examples.empty() ? "" : "  strands: ", id_list(report.inside_examples).c_str());
-  if (report.crossings_checked) {
-    std::printf("  crossing strand pairs (tolerance %g): %zu", double(args.tolerance), report.crossing_pairs);
-    for (const auto &[a, b] : report.crossing_examples) std::printf("  %llu/%llu", (unsigned long long)a, (unsigned long long)b);
-    std::printf("  (%zu segment pairs examined of %zu binned)\n", report.segment_pairs_examined,
-                report.piece_pairs_binned);
+  if (scene.strands_off_groom_roots > 0)
+    std::printf("  strands that are not the groom's regrown at this frame: %zu (another groom or frame?%s)\n",
+                scene.strands_off_groom_roots,
+                scene.has_effects ? " the crossings are judged after the effects, which the groom's strands avoid" : "");
+  if (report.crossings_before_effects) {
+    print_crossings("crossing strand pairs before effects", report.crossings, report.transversal_degrees);
+    print_crossings("crossing strand pairs after effects, a figure", report.crossings_after_effects,
+                    report.transversal_degrees, true);
   } else {
-    std::printf("  crossing strand pairs: not checked (give --tolerance)\n");
+    print_crossings("crossing strand pairs", report.crossings, report.transversal_degrees);
   }
   if (report.zones_checked)
     std::printf("  influences across hard partings: %zu%s%s\n", report.cross_zone_influences,
                 report.cross_zone_examples.empty() ? "" : "  strands: ", id_list(report.cross_zone_examples).c_str());
   else
     std::printf("  influences across hard partings: not checked (give --groom)\n");
-  if (report.guides_checked)
-    std::printf("  strands at guide roots: %zu, largest deviation from their guide %g (%.3g%% of its length, strand %llu)\n",
-                report.strands_at_guide_roots, report.max_guide_deviation, 100.0 * report.max_guide_deviation_relative,
-                (unsigned long long)report.worst_guide_strand);
-  else
+  if (report.guides_checked) {
+    const check::GuideDeviation &guides = report.guide_deviation;
+    std::printf("  strands at guide roots%s: %zu", report.guides_before_effects ? " before effects" : "",
+                guides.strands_at_guide_roots);
+    if (guides.strands_at_guide_roots > 0)
+      std::printf(", largest deviation from their guide %g (%.3g%% of its length, strand %llu); over %g%%: %zu",
+                  guides.largest, 100.0 * guides.largest_relative, (unsigned long long)guides.worst_strand,
+                  100.0 * report.guide_deviation_limit, guides.over_limit);
+    std::printf("%s%s\n", guides.over_limit_examples.empty() ? "" : "  strands: ",
+                id_list(guides.over_limit_examples).c_str());
+  } else {
     std::printf("  deviation from guides: not checked (give --guides or --groom)\n");
-  std::printf("  %s\n", report.clean() ? "clean" : "VIOLATIONS");
-  return args.strict && !report.clean() ? kExitViolations : 0;
+  }
+  if (report.roots_checked) {
+    std::printf("  requested roots without a strand: %zu of %zu", report.requested_roots.missing,
+                report.requested_roots.requested);
+    if (!report.requested_roots.missing_examples.empty()) {
+      std::printf("  (indices in %s:", args.roots.c_str());
+      for (size_t index : report.requested_roots.missing_examples) std::printf(" %zu", index);
+      std::printf(")");
+    }
+    std::printf("\n");
+  }
+  const std::vector<std::string> violations = report.violations();
+  if (violations.empty()) {
+    std::printf("  clean\n");
+  } else {
+    std::printf("  VIOLATIONS%s:\n", exit_code != 0 ? "" : " (exit code 0 without --strict)");
+    for (const std::string &v : violations) std::printf("    %s\n", v.c_str());
+  }
+}
+
+// ---- JSON -------------------------------------------------------------------------------------
+
+/// A JSON text built by hand: objects and arrays opened and closed in order, strings escaped,
+/// non-finite numbers written as null.
+class Json {
+ public:
+  void open(const char *key, char bracket) {
+    comma(key);
+    text_ += bracket;
+    first_ = true;
+  }
+  void close(char bracket) {
+    text_ += bracket;
+    first_ = false;
+  }
+  void number(const char *key, double value) {
+    comma(key);
+    if (!std::isfinite(value)) {
+      text_ += "null";
+      return;
+    }
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.9g", value);
+    text_ += buffer;
+  }
+  void count(const char *key, uint64_t value) {
+    comma(key);
+    text_ += std::to_string(value);
+  }
+  void boolean(const char *key, bool value) {
+    comma(key);
+    text_ += value ? "true" : "false";
+  }
+  void null(const char *key) {
+    comma(key);
+    text_ += "null";
+  }
+  void string(const char *key, const std::string &value) {
+    comma(key);
+    text_ += '"';
+    for (const unsigned char c : value) {
+      if (c == '"' || c == '\\') {
+        text_ += '\\';
+        text_ += char(c);
+      } else if (c < 0x20) {
+        char buffer[8];
+        std::snprintf(buffer, sizeof buffer, "\\u%04x", unsigned(c));
+        text_ += buffer;
+      } else {
+        text_ += char(c);
+      }
+    }
+    text_ += '"';
+  }
+  void ids(const char *key, const std::vector<uint64_t> &values) {
+    open(key, '[');
+    for (uint64_t v : values) count(nullptr, v);
+    close(']');
+  }
+  void pairs(const char *key, const std::vector<std::pair<uint64_t, uint64_t>> &values) {
+    open(key, '[');
+    for (const auto &[a, b] : values) {
+      open(nullptr, '[');
+      count(nullptr, a);
+      count(nullptr, b);
+      close(']');
+    }
+    close(']');
+  }
+  const std::string &text() const { return text_; }
+
+ private:
+  void comma(const char *key) {
+    if (!first_) text_ += ',';
+    first_ = false;
+    if (key) {
+      text_ += '"';
+      text_ += key;
+      text_ += "\":";
+    }
+  }
+  std::string text_;
+  bool first_ = true;
+};
+
+void json_crossings(Json &json, const char *key, const check::CrossingCount &count, float degrees,
+                    bool made_by_effects = false) {
+  json.open(key, '{');
+  json.number("tolerance", count.tolerance);
+  json.number("transversal_degrees", degrees);
+  json.count("pairs", count.pairs);
+  json.count("transversal_pairs", count.transversal_pairs);
+  json.count("touching_pairs", count.touching_pairs);
+  json.number("largest_angle_degrees", count.largest_angle_degrees);
+  json.pairs("transversal_examples", count.transversal_examples);
+  json.pairs("touching_examples", count.touching_examples);
+  json.count("segment_pairs_examined", count.segment_pairs_examined);
+  json.count("piece_pairs_binned", count.piece_pairs_binned);
+  if (made_by_effects) {
+    json.count("pairs_made_by_effects", count.pairs_new);
+    json.count("transversal_pairs_made_by_effects", count.transversal_pairs_new);
+  }
+  json.close('}');
+}
+
+void print_json(const CheckArgs &args, const CheckedScene &scene, const check::CheckReport &report, int exit_code) {
+  Json json;
+  json.open(nullptr, '{');
+  json.string("strands", args.strands);
+  json.string("skin", scene.mesh);
+  if (scene.frame)
+    json.number("frame", double(*scene.frame));
+  else
+    json.null("frame");
+  json.boolean("groom_effects", scene.has_effects);
+  json.count("strands_off_groom_roots", scene.strands_off_groom_roots);
+  json.count("strand_count", report.strand_count);
+  json.count("point_count", report.point_count);
+  json.number("median_segment_length", report.median_segment_length);
+  json.number("root_tolerance", report.root_tolerance);
+
+  json.open("inside_skin", '{');
+  json.number("margin", report.skin_margin);
+  json.count("points", report.points_inside_skin);
+  json.ids("examples", report.inside_examples);
+  json.close('}');
+
+  json.string("crossings_judged_on", report.crossings_before_effects ? "strands before effects" : "strands");
+  json.boolean("touching_is_violation", report.touching_is_violation);
+  json_crossings(json, "crossings", report.crossings, report.transversal_degrees);
+  if (report.crossings_before_effects)
+    json_crossings(json, "crossings_after_effects", report.crossings_after_effects, report.transversal_degrees, true);
+  else
+    json.null("crossings_after_effects");
+
+  json.open("zones", '{');
+  json.boolean("checked", report.zones_checked);
+  json.count("cross_zone_influences", report.cross_zone_influences);
+  json.ids("examples", report.cross_zone_examples);
+  json.close('}');
+
+  const check::GuideDeviation &guides = report.guide_deviation;
+  json.open("guides", '{');
+  json.boolean("checked", report.guides_checked);
+  json.boolean("before_effects", report.guides_before_effects);
+  json.count("strands_at_guide_roots", guides.strands_at_guide_roots);
+  json.number("largest_deviation", guides.largest);
+  json.number("largest_deviation_percent", 100.0 * guides.largest_relative);
+  if (guides.strands_at_guide_roots > 0)
+    json.count("worst_strand", guides.worst_strand);
+  else
+    json.null("worst_strand");
+  json.number("limit_percent", 100.0 * report.guide_deviation_limit);
+  json.count("over_limit", guides.over_limit);
+  json.ids("over_limit_examples", guides.over_limit_examples);
+  json.close('}');
+
+  json.open("requested_roots", '{');
+  json.boolean("checked", report.roots_checked);
+  json.string("file", args.roots);
+  json.count("requested", report.requested_roots.requested);
+  json.count("missing", report.requested_roots.missing);
+  json.open("missing_examples", '[');
+  for (size_t index : report.requested_roots.missing_examples) json.count(nullptr, index);
+  json.close(']');
+  json.close('}');
+
+  json.open("violations", '[');
+  for (const std::string &v : report.violations()) json.string(nullptr, v);
+  json.close(']');
+  json.boolean("clean", report.clean());
+  json.boolean("strict", args.strict);
+  json.count("exit_code", uint64_t(exit_code));
+  json.close('}');
+  std::printf("%s\n", json.text().c_str());
+}
+
+// ---- the check --------------------------------------------------------------------------------
+
+/// With --groom: what the groom says about the strands at their frame.
+struct GroomView {
+  std::unique_ptr<Pipeline> pipeline;
+  Mesh rest_mesh;
+  Roots roots;                             // the strands' roots, in the strands' order
+  size_t strands_off_groom_roots = 0;      // strands that are not the groom's regrown at this frame
+  std::optional<StrandSet> interpolated;   // with effects: the strands before them
+  std::optional<Guides> guides;            // the guides at the frame
+};
+
+/// Loads the groom and finds the strands' roots among its own: `plume regrow` writes strand i of a
+/// run of N roots from root i of the groom's first N (scattering and roots files keep their order
+/// under the count), with its root id where the format keeps ids (.usda). The strands are regrown
+/// from those roots without the effects: a strand whose first point is not the regrown one's is
+/// not the groom's (another groom, another frame), and gets the closest surface point of its first
+/// point as a guessed root (for the zone check only). When every strand is the groom's and the
+/// groom has effects, the regrown strands are the ones the effects start from.
+GroomView view_groom(const GroomDesc &groom, const StrandSet &strands, const Mesh &posed, const MeshQuery &posed_query,
+                     int frame, const check::CheckOptions &options, const CheckArgs &args, bool need_guides) {
+  GroomView view;
+  view.rest_mesh = io::read_obj_mesh(groom.emitter_path);
+  const Guides rest_guides =
+      bind_guides(MeshQuery(view.rest_mesh), io::read_strands(groom.guides_path), groom.guides_path);
+  if (rest_guides.size() == 0) throw InputError(groom.guides_loc, "guides: " + groom.guides_path + " holds no strands");
+  const size_t count = strands.strand_count();
+  const Roots candidates = groom_roots(groom, view.rest_mesh, rest_guides, int64_t(count));
+  // Ids 0..n-1 are those of a format without ids: then strand i is root i.
+  bool carries_ids = false;
+  for (size_t s = 0; s < count && !carries_ids; ++s) carries_ids = strands.ids[s] != uint64_t(s);
+  std::unordered_map<uint64_t, size_t> index_of_id;
+  if (carries_ids)
+    for (size_t r = 0; r < candidates.size(); ++r) index_of_id.emplace(candidates.ids[r], r);
+  const Roots guessed = check::roots_of(strands, posed_query);
+  view.roots = guessed;
+  std::vector<bool> matched(count, false);
+  for (size_t s = 0; s < count; ++s) {
+    size_t r = s;
+    if (carries_ids) {
+      const auto found = index_of_id.find(strands.ids[s]);
+      if (found == index_of_id.end()) continue;
+      r = found->second;
+    }
+    if (r >= candidates.size()) continue;
+    view.roots.points[s] = candidates.points[r];
+    matched[s] = true;
+  }
+
+  PipelineOptions pipeline_options;
+  pipeline_options.roots = view.roots;
+  pipeline_options.guides_cache = args.guides_cache;
+  pipeline_options.simulation_start = std::min(groom_first_frame(groom), frame);
+  view.pipeline = std::make_unique<Pipeline>(groom, pipeline_options);
+  view.pipeline->check_frame_inputs(FrameRange{frame, frame, 1});
+  FrameResult before = view.pipeline->produce(frame, false);
+  const float tolerance = check::root_tolerance_for(posed, options);
+  for (size_t s = 0; s < count; ++s) {
+    matched[s] = matched[s] && strands.points_in(s) > 0 && before.strands.points_in(s) > 0 &&
+                 (strands.points(s).front() - before.strands.points(s).front()).norm() <= tolerance;
+    if (!matched[s]) {
+      ++view.strands_off_groom_roots;
+      view.roots.points[s] = guessed.points[s];
+    }
+  }
+  if (view.strands_off_groom_roots > 0) {
+    // The binding must be that of the roots the zone check reads.
+    pipeline_options.roots = view.roots;
+    view.pipeline = std::make_unique<Pipeline>(groom, pipeline_options);
+  } else if (!groom.effects.empty()) {
+    before.strands.ids = strands.ids;
+    view.interpolated = std::move(before.strands);
+  }
+  if (need_guides) view.guides = Guides{std::move(before.guides), view.pipeline->guides().roots};
+  return view;
+}
+
+int run_check(const CheckArgs &args) {
+  if (args.mesh.empty() && args.groom.empty())
+    throw InputError("--mesh: expected the emitter mesh (.obj) at the strands' pose, or --groom to pose the groom's emitter");
+  if (!args.mesh.empty() && !args.groom.empty())
+    throw InputError("--mesh: give --mesh or --groom, not both (--groom poses its own emitter at --frame)");
+  if (args.frame && args.groom.empty()) throw InputError("--frame: needs --groom, whose emitter it poses");
+  if (!args.guides_cache.empty() && args.groom.empty()) throw InputError("--guides-cache: needs --groom");
+  if (!args.mesh.empty() && io::detail::extension_of(args.mesh) != ".obj")
+    throw InputError("--mesh: expected an .obj mesh, got \"" + args.mesh + "\"");
+  set_thread_count(args.threads);
+  if (is_feather_check(args.strands, args.groom))
+    return run_feather_check(args.strands, args.mesh, args.groom, args.frame, args.margin, args.strict, args.json);
+
+  check::CheckOptions options;
+  options.crossing_tolerance = args.tolerance;
+  options.transversal_degrees = args.transversal_degrees;
+  options.touching_is_violation = args.strict_touching;
+  options.skin_margin = args.margin;
+  options.guide_deviation_limit = args.guide_limit_percent / 100.0;
+
+  std::optional<GroomDesc> groom;
+  if (!args.groom.empty()) groom = io::read_groom_file(args.groom);
+  const StrandSet strands = io::read_strands(args.strands);
+
+  CheckedScene scene;
+  Mesh mesh;
+  if (groom) {
+    scene.frame = args.frame ? *args.frame : groom_first_frame(*groom);
+    scene.mesh = groom->emitter_path + " posed at frame " + std::to_string(*scene.frame);
+    scene.has_effects = !groom->effects.empty();
+    mesh = posed_emitter(*groom, io::read_obj_mesh(groom->emitter_path), *scene.frame);
+  } else {
+    mesh = io::read_obj_mesh(args.mesh);
+    scene.mesh = args.mesh;
+  }
+  const MeshQuery query(mesh);
+
+  std::optional<GroomView> view;
+  if (groom) {
+    view = view_groom(*groom, strands, mesh, query, *scene.frame, options, args, args.guides.empty());
+    scene.strands_off_groom_roots = view->strands_off_groom_roots;
+  }
+  std::optional<Guides> guides;
+  if (!args.guides.empty()) {
+    guides = bind_guides(query, io::read_strands(args.guides), args.guides);
+    if (guides->size() == 0) throw InputError("--guides: " + args.guides + " holds no strands");
+  } else if (view) {
+    guides = std::move(view->guides);
+  }
+
+  // Requested roots are snapped to the skin at rest, as the groom's roots.file is.
+  std::optional<std::vector<SurfacePoint>> requested;
+  if (!args.roots.empty()) {
+    const std::vector<Eigen::Vector3f> points = io::read_points(args.roots);
+    const MeshQuery rest_query(view ? view->rest_mesh : mesh);
+    requested.emplace(points.size());
+    for (size_t i = 0; i < points.size(); ++i) (*requested)[i] = rest_query.closest(points[i]);
+  }
+
+  check::CheckInputs inputs;
+  inputs.guides = guides ? &*guides : nullptr;
+  if (view) {
+    inputs.partings = &view->pipeline->partings();
+    inputs.roots = &view->roots;
+    inputs.roots_grown = view->strands_off_groom_roots == 0;
+    inputs.binding = &view->pipeline->binding();
+    inputs.interpolated = view->interpolated ? &*view->interpolated : nullptr;
+  }
+  inputs.requested_roots = requested ? &*requested : nullptr;
+
+  // The inputs check_strands refuses are a crossing tolerance beyond the crossing count's budget and
+  // strands without a length to derive one from.
+  check::CheckReport report;
+  try {
+    report = check::check_strands(strands, query, options, inputs);
+  } catch (const InputError &e) {
+    if (args.tolerance > 0.0f) {
+      char tolerance[32];
+      std::snprintf(tolerance, sizeof tolerance, "%g", double(args.tolerance));
+      throw InputError(std::string("--tolerance ") + tolerance + ": " + e.what());
+    }
+    throw InputError(args.strands + ": " + e.what());
+  }
+  const int exit_code = (args.strict || args.strict_touching) && !report.clean() ? kExitViolations : 0;
+  if (args.json)
+    print_json(args, scene, report, exit_code);
+  else
+    print_text(args, scene, report, exit_code);
+  return exit_code;
+}
+
+CLI::Validator finite_positive() {
+  return CLI::Validator(
+      [](std::string &text) {
+        char *end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !(value > 0.0 && value <= 3.0e38))
+          return "expected a finite number > 0, got \"" + text + "\"";
+        return std::string();
+      },
+      "FINITE>0");
 }
 
 }  // namespace
@@ -115,19 +496,39 @@ int run_check(const CheckArgs &args) {
 void add_check_command(CLI::App &app, int &r_exit_code) {
   auto args = std::make_shared<CheckArgs>();
   CLI::App *cmd = app.add_subcommand(
-      "check", "Check strands: points inside the skin, crossing pairs, influence across partings, guide deviation.");
+      "check",
+      "Check strands: points inside the skin, crossing pairs, influence across partings, guide reproduction, "
+      "requested roots.");
   cmd->add_option("strands", args->strands, "Strand file (.usda .hair .ply .obj)")->required();
-  cmd->add_option("--mesh", args->mesh, "Emitter mesh (.obj) at the strands' pose (default: the groom's emitter)");
-  cmd->add_option("--guides", args->guides, "Guide strands to measure the deviation against (default: the groom's)");
+  cmd->add_option("--mesh", args->mesh, "Emitter mesh (.obj) at the strands' pose (or give --groom)");
   cmd->add_option("--groom", args->groom,
-                  "Groom file: its guides, partings and interpolation settings (strands at the rest pose)");
+                  "Groom file: its emitter posed at --frame, its guides at that frame, partings, settings and effects");
+  cmd->add_option("--frame", args->frame,
+                  "With --groom: the strands' frame (default: the first of the groom's output.frames, else 1)")
+      ->check(CLI::Range(-kMaxFrame, kMaxFrame));
+  cmd->add_option("--guides", args->guides,
+                  "Guide strands at the strands' pose to measure reproduction against (default: the groom's)");
+  cmd->add_option("--guides-cache", args->guides_cache,
+                  "With --groom and dynamics: read the frame's guides from this cache instead of simulating");
+  cmd->add_option("--roots", args->roots,
+                  "Roots that must each have a strand (.txt x y z lines, or a strand file's first points; rest pose)");
   cmd->add_option("--tolerance", args->tolerance,
-                  "Two strands cross when segments come closer than this (scene units); 0 skips the count")
-      ->check(finite_non_negative());
+                  "Two strands cross when segments come closer than this (scene units; default 1e-3 x the median "
+                  "segment length)")
+      ->check(finite_positive());
+  cmd->add_option("--transversal-angle", args->transversal_degrees,
+                  "Crossings at a larger angle (degrees) are transversal, others touching (default 10)")
+      ->check(CLI::Range(0.0f, 90.0f));
+  cmd->add_option("--guide-limit", args->guide_limit_percent,
+                  "Largest deviation of a strand at a guide root from its guide, % of the guide's length (default 0.1)")
+      ->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--margin", args->margin, "Skin margin: points closer to the skin than this count as inside")
       ->check(finite_non_negative());
   add_threads_option(*cmd, args->threads, "Worker threads");
-  cmd->add_flag("--strict", args->strict, "Exit with code 3 when a violation is found");
+  cmd->add_flag("--strict", args->strict, "Exit with code 3 when a promise is broken");
+  cmd->add_flag("--strict-touching", args->strict_touching,
+                "As --strict, and near-parallel touching pairs count as violations too");
+  cmd->add_flag("--json", args->json, "Print the report as one JSON object");
   cmd->callback([args, &r_exit_code] { r_exit_code = run_check(*args); });
 }
 

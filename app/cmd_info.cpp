@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/feather_commands.h"
 #include "groom/error.h"
 #include "io/file_scan.h"
 #include "io/groom_file.h"
@@ -86,6 +87,8 @@ void add_info_command(CLI::App &app, int &r_exit_code) {
         print_mesh(*file, *contents.mesh);
       else
         print_strands(*file, contents.strands);
+    } else if (is_vane_mesh_file(*file)) {
+      print_vane_mesh_info(*file);
     } else {
       print_strands(*file, io::read_strands(*file));
     }

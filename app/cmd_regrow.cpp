@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/feather_commands.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
 #include "groom/error.h"
@@ -18,6 +19,7 @@ struct RegrowArgs {
   std::string groom;
   std::string frames;
   std::string out;
+  std::string vanes;
   std::string preview;
   int preview_every = -1;
   int preview_size = 0;
@@ -31,6 +33,11 @@ const std::vector<std::string> kStrandExtensions = {".usda", ".hair", ".ply", ".
 
 void run_regrow(const RegrowArgs &args) {
   const GroomDesc groom = io::read_groom_file(args.groom);
+  if (groom.feathers.enabled)
+    return run_feather_regrow(groom, {args.frames, args.out, args.vanes, args.preview, args.preview_every,
+                                      args.preview_size, args.preview_guides, args.threads, args.strands,
+                                      args.guides_cache});
+  if (!args.vanes.empty()) throw InputError("--vanes: expected a feather groom (" + args.groom + " grows hair)");
   const FrameRange range = frames_to_produce(args.frames, groom);
   const std::string out = args.out.empty() ? groom.output.path_pattern : args.out;
   const std::string out_what = args.out.empty() ? groom.source + ": output.path" : "--out";
@@ -50,6 +57,9 @@ void run_regrow(const RegrowArgs &args) {
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(range);
+  // What runs killed by SIGKILL left of these outputs goes, now that the run is known to start.
+  remove_stale_temp_files(out, range);
+  remove_stale_temp_files(previews.pattern(), range);
 
   io::StrandWriteOptions write_options;
   write_options.root_uvs = pipeline.root_uvs();
@@ -58,7 +68,6 @@ void run_regrow(const RegrowArgs &args) {
   PreviewStyle style;
   style.size = preview_size;
   const PreviewCamera camera = groom_camera(pipeline);
-  const std::vector<bool> scalp = groom_scalp(pipeline);
 
   Progress progress("regrow", int(range.count()));
   for (int64_t i = 0; i < range.count(); ++i) {
@@ -69,7 +78,7 @@ void run_regrow(const RegrowArgs &args) {
     const std::string preview = previews.path_at(i, frame);
     if (!preview.empty())
       write_png(preview, render_preview(camera, result.mesh, result.strands,
-                                        args.preview_guides ? &result.guides : nullptr, style, scalp));
+                                        args.preview_guides ? &result.guides : nullptr, style));
     progress.frame_done(frame);
   }
 }
@@ -84,6 +93,9 @@ void add_regrow_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--out", args->out,
                   "Output path pattern, e.g. out/hair.####.usda or hair.%04d.ply; format from the extension "
                   "(.usda .hair .ply .obj) (default: the groom's output.path)");
+  cmd->add_option("--vanes", args->vanes,
+                  "Feather grooms: vane mesh pattern, e.g. out/vanes.####.obj (.usda .obj) (default: the groom's "
+                  "output.vanes)");
   cmd->add_option("--preview", args->preview,
                   "Preview PNG pattern, e.g. out/preview.####.png (default: the groom's output.preview)");
   cmd->add_option("--preview-every", args->preview_every,

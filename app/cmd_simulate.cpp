@@ -44,6 +44,9 @@ void run_simulate(const SimulateArgs &args) {
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(range);
+  // What runs killed by SIGKILL left of these outputs goes, now that the run is known to start.
+  remove_stale_temp_files(cache, range);
+  remove_stale_temp_files(previews.pattern(), range);
   PreviewStyle style;
   style.size = preview_size;
   const PreviewCamera camera = groom_camera(pipeline);

@@ -1,21 +1,55 @@
 #include "app/commands.h"
 
+#include <limits.h>
 #include <omp.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <string_view>
 #include <utility>
 
 #include "app/pipeline.h"
 #include "groom/error.h"
+#include "io/atomic_file.h"
 #include "io/file_scan.h"
 
 namespace plume {
+
+namespace {
+
+/// Whether `text` is a thread count as OpenMP reads OMP_NUM_THREADS: a positive integer, or a list
+/// of them separated by commas (one per nesting level), blanks around each allowed. libgomp only
+/// warns about anything else and goes on with its own count.
+bool valid_omp_num_threads(std::string_view text) {
+  size_t i = 0;
+  const auto skip_blanks = [&] {
+    while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\n')) ++i;
+  };
+  for (;;) {
+    skip_blanks();
+    unsigned long count = 0;
+    const auto [end, error] = std::from_chars(text.data() + i, text.data() + text.size(), count);
+    if (error != std::errc() || count == 0) return false;
+    i = size_t(end - text.data());
+    skip_blanks();
+    if (i == text.size()) return true;
+    if (text[i++] != ',') return false;
+  }
+}
+
+}  // namespace
+
+void check_omp_num_threads() {
+  if (const char *variable = std::getenv("OMP_NUM_THREADS"); variable && !valid_omp_num_threads(variable))
+    throw InputError("OMP_NUM_THREADS: expected a whole number of threads >= 1 (or a list such as 4,2), got " +
+                     io::detail::quoted(variable));
+}
 
 void set_thread_count(int threads) {
   if (threads > 0) {
@@ -112,6 +146,10 @@ RunInputs::RunInputs(const GroomDesc &groom, const std::string &guides_cache)
   add(groom.roots.file, "the groom's roots.file");
   add(groom.partings.zone_map_path, "the groom's zone map");
   for (const EffectDesc &effect : groom.effects) add(effect.vertex_map_path, "an effect's vertex map");
+  for (const std::string &path : groom.feathers.template_files) add(path, "a feather template file of the groom");
+  add(groom.feathers.follicles.file, "the groom's feathers.follicles.file");
+  add(groom.feathers.follicles.map_path, "the groom's feathers.follicles.map");
+  for (const ControlDesc &control : groom.controls.controls) add(control.vertex_map_path, "a control's vertex map");
 }
 
 std::string RunInputs::input_at(const std::string &path, int frame) const {
@@ -148,11 +186,24 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
   namespace fs = std::filesystem;
   fs::path checked_folder;
   long name_max = 255;  // the longest file or folder name where the files go (pathconf)
-  auto check_name = [&](const fs::path &path, const fs::path &name) {
-    if (long(name.native().size()) > name_max)
+  // A file is written under its name plus a temporary suffix (io/atomic_file.h), which must fit too.
+  const long suffix = long(io::kMaxTempSuffixBytes);
+  auto check_name = [&](const fs::path &path, const fs::path &name, bool is_file) {
+    const long bytes = long(name.native().size());
+    if (bytes > name_max)
       throw InputError(what + ": cannot write " + path.string() + ": the name " + io::detail::quoted(name.string(), 40, true) +
-                       " has " + std::to_string(name.native().size()) + " bytes, more than the " +
-                       std::to_string(name_max) + " the file system allows");
+                       " has " + std::to_string(bytes) + " bytes, more than the " + std::to_string(name_max) +
+                       " the file system allows");
+    if (is_file && bytes + suffix > name_max)
+      throw InputError(what + ": cannot write " + path.string() + ": the name " + io::detail::quoted(name.string(), 40, true) +
+                       " has " + std::to_string(bytes) + " bytes; a file is written under its name plus up to " +
+                       std::to_string(suffix) + " bytes (.tmp-<pid>) first, so at most " +
+                       std::to_string(name_max - suffix) + " bytes fit the " + std::to_string(name_max) +
+                       " the file system allows");
+    if (is_file && path.native().size() + size_t(suffix) >= size_t(PATH_MAX))
+      throw InputError(what + ": cannot write " + io::detail::quoted(path.string(), 60, true) + ": the path has " +
+                       std::to_string(path.native().size()) + " bytes, with its temporary suffix more than the " +
+                       std::to_string(PATH_MAX - 1) + " the system allows");
   };
   for (int64_t i = 0; i < count; ++i) {
     const int frame = frame_at(i);
@@ -165,7 +216,7 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
       throw InputError(what + ": " + path.string() + " is " + input + ", which this run reads: choose another output");
     const fs::path folder = path.parent_path();
     if (i > 0 && folder == checked_folder) {
-      check_name(path, path.filename());
+      check_name(path, path.filename(), true);
       continue;
     }
     // The nearest existing ancestor must be a directory one may write in: the writer creates the rest.
@@ -183,7 +234,8 @@ void check_locations_of(const std::string &pattern, int64_t count, const FrameAt
     const long limit = ::pathconf(existing.c_str(), _PC_NAME_MAX);
     name_max = limit > 0 ? limit : 255;
     // The folders the writer will make, and the file's own name.
-    for (const fs::path &name : path.lexically_relative(existing)) check_name(path, name);
+    const fs::path made = path.lexically_relative(existing);
+    for (auto name = made.begin(); name != made.end(); ++name) check_name(path, *name, std::next(name) == made.end());
     checked_folder = folder;
   }
 }
@@ -215,15 +267,12 @@ void check_output_pattern(const std::string &pattern, const FrameRange &range, c
   }
 }
 
-PreviewCamera groom_camera(const Pipeline &pipeline) {
-  return fit_camera(scene_bounds(pipeline.rest_mesh(), pipeline.guides().strands));
+Eigen::AlignedBox3f groom_bounds(const Pipeline &pipeline) {
+  return scene_bounds(pipeline.rest_mesh(), pipeline.guides().strands);
 }
 
-std::vector<bool> groom_scalp(const Pipeline &pipeline) {
-  std::vector<int32_t> triangles;
-  triangles.reserve(pipeline.roots().size());
-  for (const SurfacePoint &p : pipeline.roots().points) triangles.push_back(p.triangle);
-  return scalp_mask(pipeline.rest_mesh(), triangles);
+PreviewCamera groom_camera(const Pipeline &pipeline, const CameraAngle &angle) {
+  return fit_camera(groom_bounds(pipeline), angle);
 }
 
 }  // namespace plume

@@ -20,6 +20,7 @@ void add_simulate_command(CLI::App &app, int &r_exit_code);
 void add_preview_command(CLI::App &app, int &r_exit_code);
 void add_info_command(CLI::App &app, int &r_exit_code);
 void add_check_command(CLI::App &app, int &r_exit_code);
+void add_view_command(CLI::App &app, int &r_exit_code);
 
 /// Exit code of `plume check --strict` when the strands break a promise.
 inline constexpr int kExitViolations = 3;
@@ -33,6 +34,11 @@ inline constexpr int kMaxThreads = 1024;
 
 // Shared by the commands.
 
+/// Throws InputError naming the variable when OMP_NUM_THREADS is set to anything but a thread count
+/// as OpenMP reads it (a whole number >= 1, or a list of them such as "4,2"): libgomp only warns
+/// and goes on with its own count. Every command checks it before it runs (main.cpp), with or
+/// without --threads.
+void check_omp_num_threads();
 /// Sets the OpenMP thread count when `threads` > 0 (results do not depend on it). Otherwise OpenMP's
 /// own count stands (OMP_NUM_THREADS, or the hardware threads), at most kMaxThreads: an
 /// OMP_NUM_THREADS above it is an InputError naming the variable, more hardware threads are capped.
@@ -89,6 +95,8 @@ class PreviewSchedule {
   std::string path_at(int64_t i, int frame) const;
   /// check_output_locations() for the previews due in `range` (the range given to the constructor).
   void check_locations(const FrameRange &range, const RunInputs &inputs) const;
+  /// The preview pattern, empty when there are no previews.
+  const std::string &pattern() const { return pattern_; }
 
  private:
   std::string what_;
@@ -101,10 +109,10 @@ class PreviewSchedule {
 int preview_size_of(int option, const GroomDesc &groom);
 /// Adds a preview size option `name` in [16, max_preview_size] to `cmd`.
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description);
-/// The preview camera of a groom: fitted to the rest emitter and the rest guides, so that every
+/// What the preview camera of a groom frames: the rest emitter and the rest guides, so that every
 /// frame of a sequence is seen from the same place.
-PreviewCamera groom_camera(const Pipeline &pipeline);
-/// The triangles holding the groom's roots, drawn as scalp in previews.
-std::vector<bool> groom_scalp(const Pipeline &pipeline);
+Eigen::AlignedBox3f groom_bounds(const Pipeline &pipeline);
+/// The preview camera of a groom, seen from `angle`, fitted to groom_bounds().
+PreviewCamera groom_camera(const Pipeline &pipeline, const CameraAngle &angle = {});
 
 }  // namespace plume

@@ -1,11 +1,12 @@
 #include "app/frame_range.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <cstdio>
 #include <filesystem>
 
 #include "groom/error.h"
+#include "io/atomic_file.h"
 
 namespace plume {
 
@@ -32,13 +33,16 @@ FrameField find_frame_field(const std::string &pattern) {
   auto add = [&](size_t begin, size_t length, int padding) {
     if (found.begin != std::string::npos)
       throw InputError("path pattern \"" + pattern + "\": expected one frame field (#### or %04d), got two");
+    if (padding > kMaxFramePadding)
+      throw InputError("path pattern \"" + pattern + "\": expected a frame field of at most " +
+                       std::to_string(kMaxFramePadding) + " digits (a longer one cannot fit a file name)");
     found = {begin, length, padding};
   };
   for (size_t i = 0; i < pattern.size();) {
     if (pattern[i] == '#') {
       size_t j = i;
       while (j < pattern.size() && pattern[j] == '#') ++j;
-      add(i, j - i, int(j - i));
+      add(i, j - i, int(std::min(j - i, size_t(kMaxFramePadding) + 1)));
       i = j;
     } else if (pattern[i] == '%') {
       size_t j = i + 1;
@@ -48,8 +52,8 @@ FrameField find_frame_field(const std::string &pattern) {
       }
       int padding = 0;
       while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j])))
-        padding = padding * 10 + (pattern[j++] - '0');
-      if (j >= pattern.size() || pattern[j] != 'd' || padding > 16)
+        padding = std::min(padding * 10 + (pattern[j++] - '0'), kMaxFramePadding + 1);
+      if (j >= pattern.size() || pattern[j] != 'd')
         throw InputError("path pattern \"" + pattern + "\": expected a frame field like %04d after '%'");
       add(i, j + 1 - i, padding);
       i = j + 1;
@@ -102,8 +106,12 @@ std::string expand_frame_pattern(const std::string &pattern, int frame) {
   const FrameField field = find_frame_field(pattern);
   std::string result = pattern;
   if (field.begin != std::string::npos) {
-    char digits[32];
-    std::snprintf(digits, sizeof digits, "%0*d", field.padding, frame);
+    // Zero-padded to the field's width, the sign counted in it, as printf's %0Nd.
+    const std::string magnitude = std::to_string(frame < 0 ? -int64_t(frame) : int64_t(frame));
+    const size_t width = size_t(field.padding) - (frame < 0 && field.padding > 0 ? 1 : 0);
+    std::string digits = frame < 0 ? "-" : "";
+    if (magnitude.size() < width) digits.append(width - magnitude.size(), '0');
+    digits += magnitude;
     result.replace(field.begin, field.length, digits);
   }
   // Literal "%%" stands for one percent sign in printf-style patterns.
@@ -152,6 +160,33 @@ void check_frame_pattern(const std::string &pattern, const FrameRange &range, co
   if (range.count() > 1 && !has_frame_field(pattern))
     throw InputError(what + ": " + std::to_string(range.count()) +
                      " frames need a frame field in the path (#### or %04d), got \"" + pattern + "\"");
+}
+
+std::vector<std::string> remove_stale_temp_files(const std::string &pattern, const FrameRange &range) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> removed;
+  if (pattern.empty()) return removed;
+  const FrameField field = find_frame_field(pattern);
+  const size_t name_begin = pattern.size() - fs::path(pattern).filename().string().size();
+  const bool field_in_name = field.begin != std::string::npos && field.begin >= name_begin;
+  // A frame field in a folder name gives a folder per frame, each holding one name; otherwise one
+  // folder holds the files of every frame (those of other runs' ranges too).
+  const int64_t folder_count = field.begin == std::string::npos || field_in_name ? 1 : range.count();
+  fs::path last_folder;
+  for (int64_t i = 0; i < folder_count; ++i) {
+    const fs::path path = expand_frame_pattern(pattern, range.at(i));
+    if (i > 0 && path.parent_path() == last_folder) continue;
+    last_folder = path.parent_path();
+    const std::string own_name = path.filename().string();
+    const auto is_output_name = [&](const std::string &name) {
+      if (!field_in_name) return name == own_name;
+      const std::optional<int> frame = frame_in_file_name(pattern, name);
+      return frame && fs::path(expand_frame_pattern(pattern, *frame)).filename().string() == name;
+    };
+    for (std::string &stale : io::remove_stale_temp_files(last_folder.string(), is_output_name))
+      removed.push_back(std::move(stale));
+  }
+  return removed;
 }
 
 }  // namespace plume

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace plume {
 
@@ -38,12 +39,17 @@ FrameRange parse_frame_range(const std::string &text, const std::string &what);
 /// Throws InputError naming `what` when `range` holds more than kMaxFramesPerRun frames.
 void check_frames_per_run(const FrameRange &range, const std::string &what);
 
+/// The widest frame field: a run of 255 '#' or %0255d, the longest file name Linux file systems
+/// allow. A wider field could name no file.
+inline constexpr int kMaxFramePadding = 255;
+
 /// True when `pattern` holds a frame field: a run of '#' or a printf field %d / %0Nd.
 bool has_frame_field(const std::string &pattern);
 
 /// Replaces the frame field of `pattern` with `frame`, zero-padded to the number of '#' (or N of
-/// %0Nd). A pattern without a field is returned as is. Throws InputError for two fields or a
-/// malformed %-field.
+/// %0Nd), whatever the width (the sign counts in it, as in printf). A pattern without a field is
+/// returned as is. Throws InputError for two fields, a malformed %-field or one wider than
+/// kMaxFramePadding.
 std::string expand_frame_pattern(const std::string &pattern, int frame);
 
 /// The frame whose expansion of `pattern` has the file name of `path` (folders are not compared),
@@ -60,5 +66,11 @@ void check_frame_syntax(const std::string &pattern, const std::string &what);
 /// of `range`: no NUL character (a file name would end there), a frame field when there is more
 /// than one frame, no malformed field.
 void check_frame_pattern(const std::string &pattern, const FrameRange &range, const std::string &what);
+
+/// Removes the temporary files that runs killed by SIGKILL left for `pattern`'s files, of any frame,
+/// in the folders the frames of `range` go to (io::remove_stale_temp_files(): only names
+/// `<a file of the pattern>.tmp-<pid>`, only when process `<pid>` is gone and no writer holds the
+/// file). An empty pattern has none. Returns the paths removed.
+std::vector<std::string> remove_stale_temp_files(const std::string &pattern, const FrameRange &range);
 
 }  // namespace plume

@@ -50,6 +50,9 @@ int main(int argc, char **argv) {
   plume::add_preview_command(app, exit_code);
   plume::add_info_command(app, exit_code);
   plume::add_check_command(app, exit_code);
+  plume::add_view_command(app, exit_code);
+  // Before any command runs (and after --help and --version, which need no threads).
+  app.parse_complete_callback([] { plume::check_omp_num_threads(); });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "app/frame_range.h"
+#include "controls/control_rig.h"
 #include "dynamics/guide_simulator.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
@@ -17,6 +18,7 @@
 #include "interp/interpolate.h"
 #include "partings/parting_field.h"
 #include "skin/skin_grid.h"
+#include "io/control_section.h"
 #include "io/obj_mesh.h"
 #include "io/point_list.h"
 #include "io/strand_file.h"
@@ -34,8 +36,8 @@ Eigen::Quaternionf euler_xyz(const Eigen::Vector3f &degrees) {
          Eigen::AngleAxisf(degrees.x() * kDegrees, Eigen::Vector3f::UnitX());
 }
 
-/// The memory this process may use, in bytes: the machine's physical memory, or less when a
-/// control group (cgroup v2, as farm schedulers set per task) limits it. 0 when unknown.
+}  // namespace
+
 double usable_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGESIZE);
   double usable = pages > 0 && page_size > 0 ? double(pages) * double(page_size) : 0.0;
@@ -53,6 +55,8 @@ double usable_memory_bytes() {
   }
   return usable;
 }
+
+namespace {
 
 /// Throws InputError (at `loc`, naming `what`) when regrowing `count` strands of `points` points
 /// would need more memory than this process may use: one frame holds the strands' points, widths and
@@ -81,9 +85,11 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
     Roots roots;
     roots.points.resize(count);
     roots.ids.resize(count);
+    roots.arrival.resize(count);
     for (size_t i = 0; i < count; ++i) {
       roots.points[i] = rest_query.closest(points[i]);
       roots.ids[i] = i;  // the point's index in the file: stable as long as the file is
+      roots.arrival[i] = double(i);  // --strands N keeps the first N points
     }
     return roots;
   }
@@ -133,6 +139,11 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
 
 }  // namespace
 
+Roots groom_roots(const GroomDesc &groom, const Mesh &rest_mesh, const Guides &guides, int64_t count_override) {
+  const MeshQuery rest_query(rest_mesh);
+  return make_roots(groom, rest_mesh, rest_query, guides, count_override);
+}
+
 Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
   Eigen::Affine3f pose = Eigen::Affine3f::Identity();
   if (animation.kind != EmitterAnimation::Kind::rigid || animation.keys.empty()) return pose;
@@ -170,8 +181,8 @@ Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : gro
   const MeshQuery rest_query(rest_mesh_);
   guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
   if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");
-  roots_ = make_roots(groom_, rest_mesh_, rest_query, guides_, options_.strand_count);
-  if (roots_.size() == 0 && options_.strand_count != 0)
+  roots_ = options_.roots ? *options_.roots : make_roots(groom_, rest_mesh_, rest_query, guides_, options_.strand_count);
+  if (roots_.size() == 0 && options_.strand_count != 0 && !options_.roots)
     throw InputError(groom_.roots.loc, "roots: no roots to grow (the roots file holds no points)");
   if (rest_mesh_.has_uvs()) {
     root_uvs_.resize(roots_.size());
@@ -188,15 +199,18 @@ Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : gro
 
   if (groom_.dynamics.enabled && options_.guides_cache.empty())
     simulator_ = std::make_unique<dynamics::GuideSimulator>(rest_mesh_, guides_, groom_.dynamics);
+  if (!groom_.controls.empty())
+    controls_ = std::make_unique<controls::ControlRig>(rest_mesh_, guides_, groom_.controls,
+                                                       io::read_control_maps(groom_.controls, rest_mesh_.vertex_count()));
 }
 
 Pipeline::~Pipeline() = default;
 
-Mesh Pipeline::posed_mesh(int frame) const {
-  const EmitterAnimation &animation = groom_.animation;
+Mesh posed_emitter(const GroomDesc &groom, const Mesh &rest_mesh, int frame) {
+  const EmitterAnimation &animation = groom.animation;
   if (animation.kind == EmitterAnimation::Kind::obj_sequence)
-    return io::read_obj_pose(expand_frame_pattern(animation.sequence_pattern, frame), rest_mesh_);
-  Mesh posed = rest_mesh_;
+    return io::read_obj_pose(expand_frame_pattern(animation.sequence_pattern, frame), rest_mesh);
+  Mesh posed = rest_mesh;
   if (animation.kind == EmitterAnimation::Kind::rigid) {
     const Eigen::Affine3f pose = rigid_pose_at(animation, frame);
     for (Eigen::Vector3f &p : posed.positions) p = pose * p;
@@ -205,25 +219,50 @@ Mesh Pipeline::posed_mesh(int frame) const {
   return posed;
 }
 
+Mesh Pipeline::posed_mesh(int frame) const { return posed_emitter(groom_, rest_mesh_, frame); }
+
 StrandSet Pipeline::guides_at(int frame, const Mesh &posed) {
-  if (!groom_.dynamics.enabled) return carry_guides(rest_mesh_, posed, guides_);
+  if (!groom_.dynamics.enabled) {
+    StrandSet guides = carry_guides(rest_mesh_, posed, guides_);
+    if (controls_) controls_->apply(frame, posed, guides);
+    return guides;
+  }
 
   if (!options_.guides_cache.empty()) return read_cached_guides(frame);
 
+  // The controls turn the simulated guides' roots at every simulated frame.
+  controls::GuidePose pose;
+  auto turns_at = [&](int at, const Mesh &mesh) -> std::span<const Eigen::Quaternionf> {
+    if (!controls_) return {};
+    controls_->pose(at, mesh, pose);
+    return pose.turns;
+  };
   const int start = std::min(options_.simulation_start, frame) - groom_.dynamics.preroll_frames;
   if (!simulated_frame_ || *simulated_frame_ > frame) {
-    simulator_->reset(posed_mesh(start));
+    const Mesh start_mesh = start == frame ? posed : posed_mesh(start);
+    simulator_->reset(start_mesh, turns_at(start, start_mesh));
     simulated_frame_ = start;
   }
   while (*simulated_frame_ < frame) {
     const int next = *simulated_frame_ + 1;
-    simulator_->step_frame(next == frame ? posed : posed_mesh(next));
+    if (next == frame) {
+      simulator_->step_frame(posed, turns_at(next, posed));
+    } else {
+      const Mesh next_mesh = posed_mesh(next);
+      simulator_->step_frame(next_mesh, turns_at(next, next_mesh));
+    }
     simulated_frame_ = next;
   }
-  return simulator_->guides();
+  if (!controls_) return simulator_->guides();
+  // The rig-driven guides, with the simulation mixed in by each control's dynamic blend.
+  StrandSet guides = carry_guides(rest_mesh_, posed, guides_);
+  controls_->pose(frame, posed, pose);
+  controls_->apply(pose, guides);
+  controls_->blend_dynamics(pose, simulator_->guides(), guides);
+  return guides;
 }
 
-FrameResult Pipeline::produce(int frame) {
+FrameResult Pipeline::produce(int frame, bool with_effects) {
   FrameResult result;
   result.frame = frame;
   result.mesh = posed_mesh(frame);
@@ -241,8 +280,9 @@ FrameResult Pipeline::produce(int frame) {
   skin_grid.emplace(result.mesh, query);
   const skin::SkinGrid *grid = &*skin_grid;
   interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance, grid);
-  effects_->apply(result.mesh, query, result.guides, binding_->skin_margin, result.strands, clearance,
-                  grid);
+  if (with_effects)
+    effects_->apply(result.mesh, query, result.guides, binding_->skin_margin, result.strands, clearance,
+                    grid);
   return result;
 }
 

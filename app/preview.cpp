@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "groom/error.h"
@@ -48,6 +49,9 @@ struct Raster {
   int rows = 0;
   std::vector<Eigen::Vector3f> color;  // linear RGB, rows * size
   std::vector<float> depth;            // view depth, +inf where empty
+  /// The depth the overlays (guides, strands drawn on top) are tested against: the skin's, then
+  /// the overlays' own.
+  std::vector<float> overlay_depth;
 
   Raster(int size_, int y_begin_, int rows_, const PreviewStyle &style)
       : size(size_), y_begin(y_begin_), rows(rows_), color(size_t(rows_) * size_), depth(size_t(rows_) * size_) {
@@ -59,6 +63,8 @@ struct Raster {
     }
   }
   int y_end() const { return y_begin + rows; }
+  /// Starts the overlays: they are hidden by what is drawn so far (the skin), not by what follows.
+  void begin_overlays() { overlay_depth = depth; }
   /// The pixel (x, y) of the whole raster, y in [y_begin, y_end()).
   size_t index(int x, int y) const { return size_t(y - y_begin) * size_t(size) + size_t(x); }
 };
@@ -74,13 +80,14 @@ struct Lights {
   }
 };
 
-// `screen`: proj.project() of every mesh vertex.
+// `screen`: proj.project() of every mesh vertex. The whole mesh is skin, the scalp included.
+// `triangle_colors`: empty, or an albedo per triangle in place of the skin colour.
 void draw_mesh(const Mesh &mesh, const std::vector<Eigen::Vector3f> &screen, const Projector &proj,
-               const Lights &lights, const PreviewStyle &style, const std::vector<bool> &scalp_triangles,
+               const Lights &lights, const PreviewStyle &style, const std::vector<Eigen::Vector3f> &triangle_colors,
                Raster &r_raster) {
-  const Eigen::Vector3f scalp_color = 0.5f * style.hair_color;
   const int size = r_raster.size;
   for (size_t f = 0; f < mesh.triangle_count(); ++f) {
+    const Eigen::Vector3f &albedo = f < triangle_colors.size() ? triangle_colors[f] : style.skin_color;
     const Eigen::Vector3i &tri = mesh.triangles[f];
     const Eigen::Vector3f &a = screen[tri[0]], &b = screen[tri[1]], &c = screen[tri[2]];
     if (a.z() <= proj.near || b.z() <= proj.near || c.z() <= proj.near) continue;
@@ -93,8 +100,6 @@ void draw_mesh(const Mesh &mesh, const std::vector<Eigen::Vector3f> &screen, con
     const int y0 = std::max(r_raster.y_begin, int(std::floor(y_min)));
     const int y1 = std::min(r_raster.y_end() - 1, int(std::ceil(y_max)));
     const Eigen::Vector3f inv_z(1.0f / a.z(), 1.0f / b.z(), 1.0f / c.z());
-    const bool scalp = !scalp_triangles.empty() && scalp_triangles[f];
-    const Eigen::Vector3f &albedo = scalp ? scalp_color : style.skin_color;
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
         const float px = float(x) + 0.5f, py = float(y) + 0.5f;
@@ -149,23 +154,32 @@ Eigen::Vector3f shade_hair(const Eigen::Vector3f &tangent, const Eigen::Vector3f
   return occlusion * (diffuse + specular);
 }
 
-// Draws every segment of `strands` as a line of `brush` x `brush` raster pixels, depth-tested,
-// within the rows of `r_raster`. Lines are stepped one pixel at a time along their major axis;
-// depth is 1/z-interpolated. Only the steps whose brush can reach the band's rows are visited.
-void draw_strands(const StrandSet &strands, const Projector &proj, const Lights &lights,
-                  const Eigen::Vector3f &color, bool vary_per_strand, int brush, Raster &r_raster) {
+// Which strands a draw_strands() call draws, and how.
+struct StrandLayer {
+  const Eigen::Vector3f *colors = nullptr;  // one base colour per strand, or null: `color` for all
+  Eigen::Vector3f color = Eigen::Vector3f::Zero();
+  const uint8_t *on_top = nullptr;  // null: every strand; else only the strands whose flag equals `top`
+  uint8_t top = 0;
+  bool root_shadow = true;  // darken the first third of every strand
+  bool overlay = false;     // tested against (and written to) the overlay depth
+  int brush = 1;
+};
+
+// Draws the segments of `strands` (those `layer` selects) as lines of `brush` x `brush` raster
+// pixels, depth-tested, within the rows of `r_raster`. Lines are stepped one pixel at a time along
+// their major axis; depth is 1/z-interpolated. Only the steps whose brush can reach the band's rows
+// are visited.
+void draw_strands(const StrandSet &strands, const Projector &proj, const Lights &lights, const StrandLayer &layer,
+                  Raster &r_raster) {
   const int size = r_raster.size;
   const int y_begin = r_raster.y_begin, y_end = r_raster.y_end();
+  const int brush = layer.brush;
+  std::vector<float> &depth = layer.overlay ? r_raster.overlay_depth : r_raster.depth;
   for (size_t s = 0; s < strands.strand_count(); ++s) {
+    if (layer.on_top && (layer.on_top[s] != 0) != (layer.top != 0)) continue;
     const auto points = strands.points(s);
     if (points.size() < 2) continue;
-    // Per-strand tone variation, hashed from the strand id so it is stable across frames.
-    Eigen::Vector3f base = color;
-    if (vary_per_strand) {
-      const uint64_t id = s < strands.ids.size() ? strands.ids[s] : s;
-      const float h = hash_to_unit(hash64(id));
-      base *= 0.7f + 0.6f * h;
-    }
+    const Eigen::Vector3f &base = layer.colors ? layer.colors[s] : layer.color;
     const float segment_count = float(points.size() - 1);
     for (size_t i = 0; i + 1 < points.size(); ++i) {
       const Eigen::Vector3f d = points[i + 1] - points[i];
@@ -195,7 +209,7 @@ void draw_strands(const StrandSet &strands, const Projector &proj, const Lights 
       const Eigen::Vector3f view = (proj.eye - mid).normalized();
       // Hair near the scalp sits under other hair: darken the first third of every strand.
       const float along = (float(i) + 0.5f) / segment_count;
-      const float occlusion = vary_per_strand ? 0.3f + 0.7f * std::min(1.0f, along / 0.35f) : 1.0f;
+      const float occlusion = layer.root_shadow ? 0.3f + 0.7f * std::min(1.0f, along / 0.35f) : 1.0f;
       const Eigen::Vector3f c = shade_hair(tangent, view, lights, base, occlusion);
       const float inv_za = 1.0f / a.z(), inv_zb = 1.0f / b.z();
       for (int k = k_first; k <= k_last; ++k) {
@@ -208,8 +222,8 @@ void draw_strands(const StrandSet &strands, const Projector &proj, const Lights 
           for (int bx = x; bx < x + brush; ++bx) {
             if (bx < 0 || bx >= size) continue;
             const size_t pixel = r_raster.index(bx, by);
-            if (!(z < r_raster.depth[pixel])) continue;
-            r_raster.depth[pixel] = z;
+            if (!(z < depth[pixel])) continue;
+            depth[pixel] = z;
             r_raster.color[pixel] = c;
           }
         }
@@ -218,32 +232,69 @@ void draw_strands(const StrandSet &strands, const Projector &proj, const Lights 
   }
 }
 
+// The sRGB transfer function, as browsers apply it to the viewer's colours.
 uint8_t encode(float linear) {
-  const float v = std::pow(std::clamp(linear, 0.0f, 1.0f), 1.0f / 2.2f);
+  const float c = std::clamp(linear, 0.0f, 1.0f);
+  const float v = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
   return uint8_t(std::lround(v * 255.0f));
 }
 
 }  // namespace
 
-PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3f &up, const Eigen::Vector3f &front,
-                         float yaw_degrees, float pitch_degrees) {
-  PreviewCamera camera;
-  camera.up = up.normalized();
-  camera.target = bounds.center();
-  const Eigen::Vector3f dir = (Eigen::AngleAxisf(yaw_degrees * kPi / 180.0f, camera.up) *
-                               Eigen::AngleAxisf(-pitch_degrees * kPi / 180.0f, front.cross(camera.up).normalized()) *
-                               front.normalized())
-                                  .normalized();
+CameraAngle parse_camera_angle(const std::string &text, const std::string &what) {
+  const CameraAngle three_quarter;
+  if (text == "front") return {0.0f, 0.0f};
+  if (text == "right") return {90.0f, 0.0f};
+  if (text == "back") return {180.0f, 0.0f};
+  if (text == "left") return {-90.0f, 0.0f};
+  if (text == "top") return {0.0f, 90.0f};
+  if (text == "three-quarter") return three_quarter;
+  // "AZ" or "AZ,EL": finite numbers, the elevation in [-90, 90].
+  const auto number = [&](const std::string &part, double &r_value) {
+    char *end = nullptr;
+    r_value = std::strtod(part.c_str(), &end);
+    return !part.empty() && *end == '\0' && std::isfinite(r_value) && std::abs(r_value) <= 1e6;
+  };
+  const size_t comma = text.find(',');
+  double azimuth = 0.0, elevation = three_quarter.elevation_degrees;
+  const bool parsed = number(text.substr(0, comma), azimuth) &&
+                      (comma == std::string::npos || number(text.substr(comma + 1), elevation));
+  if (!parsed || std::abs(elevation) > 90.0)
+    throw InputError(what + ": expected front, back, left, right, top, three-quarter, or an orbit angle in degrees "
+                            "(\"AZ\" or \"AZ,EL\", EL in [-90, 90]), got \"" + text + "\"");
+  return {float(azimuth), float(elevation)};
+}
+
+namespace {
+
+// The unit view direction from the target to the eye, and the picture's up, for `angle`.
+void camera_axes(const CameraAngle &angle, const Eigen::Vector3f &up, const Eigen::Vector3f &front,
+                 Eigen::Vector3f &r_to_eye, Eigen::Vector3f &r_picture_up) {
+  const Eigen::Vector3f up_n = up.normalized();
+  Eigen::Vector3f front_n = front - front.dot(up_n) * up_n;
+  if (front_n.squaredNorm() < 1e-12f) front_n = up_n.unitOrthogonal();
+  front_n.normalize();
+  const Eigen::Vector3f horizontal = Eigen::AngleAxisf(angle.azimuth_degrees * kPi / 180.0f, up_n) * front_n;
+  const float elevation = angle.elevation_degrees * kPi / 180.0f;
+  r_to_eye = (std::cos(elevation) * horizontal + std::sin(elevation) * up_n).normalized();
+  r_picture_up = (-std::sin(elevation) * horizontal + std::cos(elevation) * up_n).normalized();
+}
+
+// The distance from the centre of `bounds` at which a camera looking along -to_eye sees every
+// corner of `bounds` with a 6% margin (at least the bounding sphere's radius).
+float fitted_distance(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3f &to_eye, const Eigen::Vector3f &picture_up,
+                      float fov_y_degrees) {
   // Start from the distance at which the bounding sphere fits, then move in as long as every corner
   // of the box still projects inside the frame with a 6% margin (the sphere leaves the box small).
+  const Eigen::Vector3f target = bounds.center();
   const float radius = std::max(0.5f * bounds.diagonal().norm(), 1e-6f);
-  const float half_fov = 0.5f * camera.fov_y_degrees * kPi / 180.0f;
+  const float half_fov = 0.5f * fov_y_degrees * kPi / 180.0f;
   const float limit = 0.94f * std::tan(half_fov);
+  const Eigen::Vector3f forward = -to_eye;
+  const Eigen::Vector3f right = forward.cross(picture_up).normalized();
+  const Eigen::Vector3f up_view = right.cross(forward);
   auto fits = [&](float distance) {
-    const Eigen::Vector3f eye = camera.target + dir * distance;
-    const Eigen::Vector3f forward = -dir;
-    const Eigen::Vector3f right = forward.cross(camera.up).normalized();
-    const Eigen::Vector3f up_view = right.cross(forward);
+    const Eigen::Vector3f eye = target + to_eye * distance;
     for (int corner = 0; corner < 8; ++corner) {
       const Eigen::Vector3f d = bounds.corner(Eigen::AlignedBox3f::CornerType(corner)) - eye;
       const float z = d.dot(forward);
@@ -258,8 +309,34 @@ PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const Eigen::Vector3
     const float mid = 0.5f * (near + far);
     (fits(mid) ? far : near) = mid;
   }
-  camera.eye = camera.target + dir * far;
-  return camera;
+  return far;
+}
+
+}  // namespace
+
+PreviewCamera fit_camera(const Eigen::AlignedBox3f &bounds, const CameraAngle &angle, const Eigen::Vector3f &up,
+                         const Eigen::Vector3f &front) {
+  return turntable_cameras(bounds, 1, angle, up, front).front();
+}
+
+std::vector<PreviewCamera> turntable_cameras(const Eigen::AlignedBox3f &bounds, int count, const CameraAngle &start,
+                                             const Eigen::Vector3f &up, const Eigen::Vector3f &front) {
+  std::vector<PreviewCamera> cameras(size_t(std::max(count, 1)));
+  std::vector<Eigen::Vector3f> to_eye(cameras.size());
+  float distance = 0.0f;
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    CameraAngle angle = start;
+    angle.azimuth_degrees += 360.0f * float(i) / float(cameras.size());
+    camera_axes(angle, up, front, to_eye[i], cameras[i].up);
+    cameras[i].target = bounds.center();
+    distance = std::max(distance, fitted_distance(bounds, to_eye[i], cameras[i].up, cameras[i].fov_y_degrees));
+  }
+  for (size_t i = 0; i < cameras.size(); ++i) cameras[i].eye = cameras[i].target + to_eye[i] * distance;
+  return cameras;
+}
+
+Eigen::Vector3f plain_hair_color(const PreviewStyle &style, uint64_t id) {
+  return style.hair_color * (0.7f + 0.6f * hash_to_unit(hash64(id)));
 }
 
 Eigen::AlignedBox3f scene_bounds(const Mesh &mesh, const StrandSet &strands) {
@@ -270,15 +347,13 @@ Eigen::AlignedBox3f scene_bounds(const Mesh &mesh, const StrandSet &strands) {
   return box;
 }
 
-std::vector<bool> scalp_mask(const Mesh &mesh, const std::vector<int32_t> &root_triangles) {
-  std::vector<bool> mask(mesh.triangle_count(), false);
-  for (int32_t f : root_triangles)
-    if (f >= 0 && size_t(f) < mask.size()) mask[size_t(f)] = true;
-  return mask;
-}
-
 Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const StrandSet &strands, const StrandSet *guides,
-                     const PreviewStyle &style, const std::vector<bool> &scalp_triangles) {
+                     const PreviewStyle &style, const StrandPaint &paint) {
+  const size_t strand_count = strands.strand_count();
+  if ((!paint.colors.empty() && paint.colors.size() != strand_count) ||
+      (!paint.on_top.empty() && paint.on_top.size() != strand_count))
+    throw InternalError("render_preview: the paint has " + std::to_string(paint.colors.size()) + " colours and " +
+                        std::to_string(paint.on_top.size()) + " flags for " + std::to_string(strand_count) + " strands");
   const int ss = std::max(1, style.supersample);
   const int raster_size = style.size * ss;
   const Projector proj(camera, raster_size);
@@ -286,22 +361,42 @@ Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const Strand
   std::vector<Eigen::Vector3f> screen(mesh.vertex_count());
   for (size_t v = 0; v < mesh.vertex_count(); ++v) screen[v] = proj.project(mesh.positions[v]);
 
+  std::vector<Eigen::Vector3f> plain;
+  if (paint.colors.empty()) {
+    plain.resize(strand_count);
+    for (size_t s = 0; s < strand_count; ++s) plain[s] = plain_hair_color(style, s < strands.ids.size() ? strands.ids[s] : s);
+  }
+  StrandLayer hair;
+  hair.colors = paint.colors.empty() ? plain.data() : paint.colors.data();
+  hair.on_top = paint.on_top.empty() ? nullptr : paint.on_top.data();
+  hair.brush = std::max(1, style.strand_brush);
+  StrandLayer hair_on_top = hair;
+  hair_on_top.top = 1;
+  hair_on_top.overlay = true;
+  StrandLayer guide_layer;
+  guide_layer.color = style.guide_color;
+  guide_layer.root_shadow = false;
+  guide_layer.overlay = true;
+  guide_layer.brush = ss;
+
   Image image;
   image.width = image.height = style.size;
   image.rgb.resize(size_t(style.size) * style.size * 3);
-  // The supersampled raster (16 bytes a sample, ss^2 samples a pixel: 9.7 GB at 8192 pixels) is
+  // The supersampled raster (20 bytes a sample, ss^2 samples a pixel: 12 GB at 8192 pixels) is
   // drawn in bands of whole image rows of at most kPreviewBandBytes each. Every sample lies in one
   // band and receives there the same writes in the same order as in a single pass, so the picture
   // does not depend on the banding.
-  const size_t row_bytes = size_t(ss) * size_t(raster_size) * (sizeof(Eigen::Vector3f) + sizeof(float));
+  const size_t row_bytes = size_t(ss) * size_t(raster_size) * (sizeof(Eigen::Vector3f) + 2 * sizeof(float));
   const int band_rows = int(std::clamp<size_t>(kPreviewBandBytes / row_bytes, 1, size_t(style.size)));
   const float norm = 1.0f / float(ss * ss);
   for (int band_first = 0; band_first < style.size; band_first += band_rows) {
     const int rows = std::min(band_rows, style.size - band_first);
     Raster raster(raster_size, band_first * ss, rows * ss, style);
-    draw_mesh(mesh, screen, proj, lights, style, scalp_triangles, raster);
-    draw_strands(strands, proj, lights, style.hair_color, true, std::max(1, style.strand_brush), raster);
-    if (guides) draw_strands(*guides, proj, lights, style.guide_color, false, ss, raster);
+    draw_mesh(mesh, screen, proj, lights, style, paint.triangle_colors, raster);
+    raster.begin_overlays();
+    draw_strands(strands, proj, lights, hair, raster);
+    if (hair.on_top) draw_strands(strands, proj, lights, hair_on_top, raster);
+    if (guides) draw_strands(*guides, proj, lights, guide_layer, raster);
     for (int y = band_first; y < band_first + rows; ++y) {
       for (int x = 0; x < style.size; ++x) {
         Eigen::Vector3f sum = Eigen::Vector3f::Zero();
@@ -314,6 +409,29 @@ Image render_preview(const PreviewCamera &camera, const Mesh &mesh, const Strand
     }
   }
   return image;
+}
+
+Image tile_images(const std::vector<Image> &images, int columns) {
+  if (images.empty() || columns < 1) throw InternalError("tile_images: no image or no column");
+  const int cell_width = images.front().width, cell_height = images.front().height;
+  for (const Image &image : images)
+    if (image.width != cell_width || image.height != cell_height)
+      throw InternalError("tile_images: the images differ in size");
+  columns = std::min(columns, int(images.size()));
+  const int rows = (int(images.size()) + columns - 1) / columns;
+  Image sheet;
+  sheet.width = cell_width * columns;
+  sheet.height = cell_height * rows;
+  sheet.rgb.resize(size_t(sheet.width) * size_t(sheet.height) * 3);
+  const uint8_t *fill = images.front().rgb.data();
+  for (size_t p = 0; p < sheet.rgb.size(); p += 3) std::copy(fill, fill + 3, &sheet.rgb[p]);
+  for (size_t i = 0; i < images.size(); ++i) {
+    const int x0 = int(i % size_t(columns)) * cell_width, y0 = int(i / size_t(columns)) * cell_height;
+    for (int y = 0; y < cell_height; ++y)
+      std::copy_n(&images[i].rgb[size_t(y) * cell_width * 3], size_t(cell_width) * 3,
+                  &sheet.rgb[(size_t(y0 + y) * size_t(sheet.width) + size_t(x0)) * 3]);
+  }
+  return sheet;
 }
 
 void write_png(const std::string &path, const Image &image) {

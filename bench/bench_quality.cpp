@@ -1,15 +1,29 @@
-// Quality on a real groom: hold out 20% and 40% of Sintel's guides (farthest-point sampling on the
-// roots picks the kept ones), regrow strands at the held-out roots from the kept guides, and compare
-// them with the real guides: mean distance (% of the real strand's length, points paired by
-// normalised arc length) and % of points inside the body, for each interpolation method.
-// Also the "oracle": the best least-squares blend of the same k guides that streamline uses
-// (root-relative, paired by arc length), with weights >= 0 (convex) or any weights summing to 1
-// (affine): the floor a blend of those guides can reach.
+// Quality on a real groom: hold out 20% and 40% of the guides (farthest-point sampling on the roots
+// picks the kept ones), regrow strands at the held-out roots from the kept guides, and compare them
+// with the real guides: mean distance (% of the real strand's length, points paired by normalised
+// arc length) and % of points inside the body, for each interpolation method.
+// Beside them, in the same run:
+// - the baseline a few lines write: the k = 4 nearest guide roots, weights 1/d^2, each guide carried
+//   into the root's surface frame (the minimal rotation taking its root's normal to the root's) and
+//   its points blended by normalised arc length; the default method's error over the baseline's is
+//   printed as a ratio (the target is <= 0.8);
+// - the "oracle": the best least-squares blend of the same k guides that streamline uses
+//   (root-relative, paired by arc length), with weights >= 0 (convex) or any weights summing to 1
+//   (affine): the floor a blend of those guides can reach.
+// Usage: bench_quality [--scale S]                          Sintel (grooms/sintel)
+//        bench_quality [--scale S] GUIDES MESH.obj [NAME]   another hairstyle: its guides (.hair,
+//                                                           .ply, .usda or .obj lines) on its mesh
+// --scale S multiplies every coordinate by S first (S = 0.01: a groom modelled in centimetres,
+// as if in metres): a method without absolute lengths gives the same errors.
 #include <omp.h>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <exception>
 #include <limits>
 #include <string>
 #include <vector>
@@ -138,18 +152,95 @@ double oracle_error_percent(const interp::Binding &binding, const Guides &kept, 
   return sum / double(real.strand_count());
 }
 
+/// The baseline: the k = 4 nearest kept guide roots (Euclidean, rest pose), weights 1/d^2 (a guide
+/// root at the root takes all the weight), each guide resampled to `points` points by normalised arc
+/// length and carried into the root's surface frame by the minimal rotation taking its root's normal
+/// to the root's normal, offsets from its root on the skin blended point by point.
+StrandSet baseline_strands(const Mesh &mesh, const Guides &kept, const Roots &roots, int points) {
+  constexpr int k = 4;
+  const size_t guide_count = kept.size();
+  std::vector<Eigen::Vector3f> guide_roots(guide_count), guide_normals(guide_count);
+  std::vector<std::vector<Eigen::Vector3f>> resampled(guide_count);
+  for (size_t g = 0; g < guide_count; ++g) {
+    guide_roots[g] = surface_position(mesh, kept.roots[g]);
+    guide_normals[g] = surface_normal(mesh, kept.roots[g]);
+    resampled[g] = resample(kept.strands.points(g), points);
+  }
+  StrandSet strands;
+  std::vector<Eigen::Vector3f> strand(static_cast<size_t>(points));
+  for (size_t r = 0; r < roots.size(); ++r) {
+    const Eigen::Vector3f c = surface_position(mesh, roots.points[r]), n = surface_normal(mesh, roots.points[r]);
+    std::vector<std::pair<float, size_t>> nearest;
+    for (size_t g = 0; g < guide_count; ++g) nearest.emplace_back((guide_roots[g] - c).norm(), g);
+    const size_t used = std::min<size_t>(k, guide_count);
+    std::partial_sort(nearest.begin(), nearest.begin() + std::ptrdiff_t(used), nearest.end());
+    std::vector<float> weights(used);
+    float sum = 0.0f;
+    for (size_t i = 0; i < used; ++i) {
+      weights[i] = nearest[0].first <= 1e-6f * (1.0f + c.norm()) ? (i == 0 ? 1.0f : 0.0f)
+                                                                    : 1.0f / (nearest[i].first * nearest[i].first);
+      sum += weights[i];
+    }
+    std::fill(strand.begin(), strand.end(), c);
+    for (size_t i = 0; i < used; ++i) {
+      const size_t g = nearest[i].second;
+      const Eigen::Quaternionf carry = Eigen::Quaternionf::FromTwoVectors(guide_normals[g], n);
+      for (int j = 0; j < points; ++j)
+        strand[size_t(j)] += (weights[i] / sum) * (carry * (resampled[g][size_t(j)] - guide_roots[g]));
+    }
+    strands.append(strand, roots.ids[r]);
+  }
+  return strands;
+}
+
 }  // namespace
 
-int main() {
+int main(int argc, char **argv) {
   const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/sintel/";
-  const Mesh mesh = io::read_obj_mesh(folder + "sintel.obj");
+  float scale = 1.0f;
+  if (argc >= 3 && std::string(argv[1]) == "--scale") {
+    scale = std::strtof(argv[2], nullptr);
+    argc -= 2;
+    argv += 2;
+  }
+  if ((argc != 1 && argc != 3 && argc != 4) || !(scale > 0.0f && scale < 1e6f)) {
+    std::fprintf(stderr, "usage: bench_quality [--scale S in (0, 1e6)] [GUIDES MESH.obj [NAME]]\n");
+    return 2;
+  }
+  const std::string guides_path = argc >= 3 ? argv[1] : folder + "sintel_guides.hair";
+  const std::string mesh_path = argc >= 3 ? argv[2] : folder + "sintel.obj";
+  std::string name = argc == 4 ? argv[3] : argc >= 3 ? guides_path : "Sintel";
+  if (scale != 1.0f) {
+    char factor[32];
+    std::snprintf(factor, sizeof factor, " (coordinates x %g)", double(scale));
+    name += factor;
+  }
+  Mesh mesh;
+  Guides all;
+  try {
+    mesh = io::read_obj_mesh(mesh_path);
+    StrandSet guide_strands = io::read_strands(guides_path);
+    if (scale != 1.0f) {
+      for (Eigen::Vector3f &p : mesh.positions) p *= scale;
+      mesh.compute_normals();
+      for (Eigen::Vector3f &p : guide_strands.positions) p *= scale;
+    }
+    all = bind_guides(MeshQuery(mesh), guide_strands, guides_path);
+  } catch (const std::exception &e) {
+    std::fprintf(stderr, "bench_quality: %s\n", e.what());
+    return 2;
+  }
+  if (all.size() < 10) {
+    std::fprintf(stderr, "bench_quality: %s: %zu guides, at least 10 needed to hold some out\n", guides_path.c_str(),
+                 all.size());
+    return 2;
+  }
   const MeshQuery query(mesh);
-  const Guides all = bind_guides(query, io::read_strands(folder + "sintel_guides.hair"), "sintel_guides.hair");
   const int points = 32;
   std::vector<Eigen::Vector3f> root_positions;
   for (size_t g = 0; g < all.size(); ++g) root_positions.push_back(all.strands.points(g)[0]);
 
-  std::printf("Sintel hold-out quality: %zu guides, %zu-triangle mesh, %d cores, %d threads\n", all.size(),
+  std::printf("%s hold-out quality: %zu guides, %zu-triangle mesh, %d cores, %d threads\n", name.c_str(), all.size(),
               mesh.triangle_count(), omp_get_num_procs(), omp_get_max_threads());
   std::printf("%-9s %-11s %6s %7s %12s %10s %10s\n", "held out", "method", "kept", "regrown", "error %len",
               "inside %", "bind+grow");
@@ -177,7 +268,8 @@ int main() {
     const std::pair<Method, const char *> methods[] = {
         {Method::streamline, "streamline"}, {Method::fur, "fur"}, {Method::linear, "linear"}};
     interp::Binding streamline_binding;
-    for (const auto &[method, name] : methods) {
+    double streamline_error = 0.0;
+    for (const auto &[method, method_name] : methods) {
       InterpolationSettings settings;
       settings.method = method;
       interp::GrowOptions options;
@@ -189,10 +281,25 @@ int main() {
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::vector<uint64_t> examples;
       const size_t inside = check::count_points_inside(grown, query, 0.0f, 1, examples);
-      std::printf("%-9s %-11s %6zu %7zu %12.2f %10.2f %8.1fms\n", held_out == 0.2 ? "20%" : "40%", name, keep,
-                  roots.size(), mean_error_percent(grown, real, points),
-                  100.0 * double(inside) / double(grown.point_count()), seconds * 1e3);
-      if (method == Method::streamline) streamline_binding = std::move(binding);
+      const double error = mean_error_percent(grown, real, points);
+      std::printf("%-9s %-11s %6zu %7zu %12.2f %10.2f %8.1fms\n", held_out == 0.2 ? "20%" : "40%", method_name, keep,
+                  roots.size(), error, 100.0 * double(inside) / double(grown.point_count()), seconds * 1e3);
+      if (method == Method::streamline) {
+        streamline_binding = std::move(binding);
+        streamline_error = error;
+      }
+    }
+    {
+      const auto start = std::chrono::steady_clock::now();
+      const StrandSet grown = baseline_strands(mesh, kept, roots, points);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::vector<uint64_t> examples;
+      const size_t inside = check::count_points_inside(grown, query, 0.0f, 1, examples);
+      const double error = mean_error_percent(grown, real, points);
+      std::printf("%-9s %-11s %6zu %7zu %12.2f %10.2f %8.1fms\n", held_out == 0.2 ? "20%" : "40%", "baseline", keep,
+                  roots.size(), error, 100.0 * double(inside) / double(grown.point_count()), seconds * 1e3);
+      std::printf("%-9s streamline / baseline error: %.3f (target <= 0.8)\n", held_out == 0.2 ? "20%" : "40%",
+                  streamline_error / error);
     }
     for (const bool convex : {true, false})
       std::printf("%-9s %-11s %6zu %7zu %12.2f %10s\n", held_out == 0.2 ? "20%" : "40%",

@@ -150,7 +150,7 @@ struct GuideSimulator::State {
   size_t guide_count() const { return roots.size(); }
 
   void reset_guide(size_t g, const RigidMotion &from_rest);
-  void pose_roots(const Mesh &posed_mesh);
+  void pose_roots(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns);
   const MeshQuery *emitter_query();
   void copy_positions(std::vector<Eigen::Vector3f> &r_positions) const;
   void substep_guide(size_t g, double s0, double s1, double h, double time_end);
@@ -174,11 +174,30 @@ const MeshQuery *GuideSimulator::State::emitter_query() {
   return query.get();
 }
 
+namespace {
+
+// The root frame of guide g on `posed_mesh`, turned by its entry of `root_turns` (if any) about
+// the guide's first point `first_local` (in the frame): with R' = R q and o' = o + R (c - q c), the
+// first point o' + R' c = o + R c stays where the skin carries it.
+FramePose root_frame(const Mesh &posed_mesh, const SurfacePoint &root, std::span<const Eigen::Quaternionf> root_turns,
+                     size_t g, const Vector3d &first_local) {
+  FramePose pose = FramePose::from(surface_frame(posed_mesh, root));
+  if (root_turns.empty()) return pose;
+  const Eigen::Quaternionf &turn = root_turns[g];
+  if (turn.w() == 1.0f && turn.vec() == Eigen::Vector3f::Zero()) return pose;
+  const Eigen::Quaterniond q = turn.cast<double>();
+  pose.origin += pose.rotation * (first_local - q * first_local);
+  pose.rotation = (pose.rotation * q).normalized();
+  return pose;
+}
+
+}  // namespace
+
 // root_to <- the root frames on `posed_mesh` (a per-guide loop: parallel like the substeps).
-void GuideSimulator::State::pose_roots(const Mesh &posed_mesh) {
+void GuideSimulator::State::pose_roots(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns) {
 #pragma omp parallel for schedule(static) if (guide_count() >= kParallelGuides)
   for (int64_t g = 0; g < int64_t(guide_count()); ++g)
-    root_to[size_t(g)] = FramePose::from(surface_frame(posed_mesh, roots[size_t(g)]));
+    root_to[size_t(g)] = root_frame(posed_mesh, roots[size_t(g)], root_turns, size_t(g), rest_local[size_t(offsets[size_t(g)])]);
 }
 
 // The float view of the joint positions.
@@ -612,12 +631,14 @@ GuideSimulator::~GuideSimulator() = default;
 std::span<const Eigen::Vector3d> GuideSimulator::positions() const { return state_->x; }
 std::span<const Eigen::Vector3d> GuideSimulator::velocities() const { return state_->v; }
 
-void GuideSimulator::reset(const Mesh &posed_mesh) {
+void GuideSimulator::reset(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns) {
   State &st = *state_;
   if (posed_mesh.vertex_count() != st.rest_positions.size())
     throw InputError("dynamics: the posed mesh has " + std::to_string(posed_mesh.vertex_count()) +
                      " vertices, expected " + std::to_string(st.rest_positions.size()));
-  st.pose_roots(posed_mesh);
+  if (!root_turns.empty() && root_turns.size() != st.guide_count())
+    throw InternalError("dynamics: one root turn per guide expected");
+  st.pose_roots(posed_mesh, root_turns);
   st.root_from = st.root_to;
   const RigidMotion from_rest =
       st.settings.collide_with_emitter ? fit_rigid_motion(st.rest_positions, posed_mesh.positions) : RigidMotion{};
@@ -634,9 +655,11 @@ void GuideSimulator::reset(const Mesh &posed_mesh) {
   st.copy_positions(view_.positions);
 }
 
-void GuideSimulator::step_frame(const Mesh &posed_mesh) {
+void GuideSimulator::step_frame(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns) {
   State &st = *state_;
-  if (!st.posed) reset(posed_mesh);
+  if (!st.posed) reset(posed_mesh, root_turns);
+  if (!root_turns.empty() && root_turns.size() != st.guide_count())
+    throw InternalError("dynamics: one root turn per guide expected");
   if (posed_mesh.vertex_count() != st.mesh_to.vertex_count())
     throw InputError("dynamics: the posed mesh has " + std::to_string(posed_mesh.vertex_count()) +
                      " vertices, expected " + std::to_string(st.mesh_to.vertex_count()));
@@ -673,7 +696,9 @@ void GuideSimulator::step_frame(const Mesh &posed_mesh) {
     for (int64_t g = 0; g < int64_t(st.guide_count()); ++g) {
       // The per-frame work of a guide rides in the substeps' parallel loop (one parallel region
       // per substep): its root frame on the new pose first, its float view last.
-      if (s == 0) st.root_to[size_t(g)] = FramePose::from(surface_frame(st.mesh_to, st.roots[size_t(g)]));
+      if (s == 0)
+        st.root_to[size_t(g)] =
+            root_frame(st.mesh_to, st.roots[size_t(g)], root_turns, size_t(g), st.rest_local[size_t(st.offsets[size_t(g)])]);
       st.substep_guide(size_t(g), s0, s1, h, time_end);
       if (s + 1 == substeps)
         for (int64_t p = st.offsets[size_t(g)]; p < st.offsets[size_t(g) + 1]; ++p)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -38,12 +39,16 @@ class GuideSimulator {
   GuideSimulator &operator=(const GuideSimulator &) = delete;
 
   /// Sets the state to the guides carried rigidly onto `posed_mesh` at rest (zero velocity).
-  /// `posed_mesh` has the rest mesh's topology, normals computed.
-  void reset(const Mesh &posed_mesh);
+  /// `posed_mesh` has the rest mesh's topology, normals computed. `root_turns`: empty, or one unit
+  /// quaternion per guide that turns its root frame about the guide's first point (in the skin
+  /// frame's coordinates: an animator control's pose); the guide is then simulated as if groomed
+  /// turned by it, its root where it was. An identity turn leaves a guide as without one, to the bit.
+  void reset(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns = {});
   /// Advances one frame (settings.substeps substeps, dt = 1 / fps / substeps each), roots
-  /// following the skin, root frames interpolated between the previous pose and `posed_mesh`.
-  /// The first call after construction without reset() resets to `posed_mesh` first.
-  void step_frame(const Mesh &posed_mesh);
+  /// following the skin, root frames (turned by `root_turns`, as for reset()) interpolated between
+  /// the previous pose and `posed_mesh`. The first call after construction without reset() resets
+  /// to `posed_mesh` first.
+  void step_frame(const Mesh &posed_mesh, std::span<const Eigen::Quaternionf> root_turns = {});
   /// Current simulated guide strands (same offsets and ids as the rest guides), refreshed
   /// after each step.
   const StrandSet &guides() const { return view_; }

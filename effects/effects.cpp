@@ -26,7 +26,6 @@ namespace {
 constexpr float kTwoPi = 6.28318530717958647692f;
 
 // Salts that keep the random draws of one effect independent of each other.
-constexpr uint64_t kSaltClumpOrder = 0x636c756d70ull;  // "clump"
 constexpr uint64_t kSaltStray = 0x7374726179ull;       // "stray"
 constexpr uint64_t kSaltFraction = 0x6672616374ull;    // "fract"
 constexpr uint64_t kSaltLength = 0x6c656e677468ull;    // "length"
@@ -134,21 +133,28 @@ std::vector<float> read_vertex_map(const std::string &path, size_t vertex_count,
   return values;
 }
 
-/// Clump centres by greedy Poisson-disk selection over the rest root positions: strands are visited
-/// in an order hashed from (seed, id), and one becomes a centre when no earlier centre lies within
-/// `radius`. Every strand then joins its nearest centre (within `radius`, since the selection is
-/// maximal). Depends only on the ids and rest positions, so it is the same on every frame.
-std::vector<int32_t> poisson_clumps(const std::vector<Eigen::Vector3f> &rest_roots, const std::vector<uint64_t> &ids,
-                                    float radius, uint64_t seed) {
-  const size_t n = rest_roots.size();
-  std::vector<uint64_t> priority(n);
-  for (size_t i = 0; i < n; ++i) priority[i] = hash_combine(hash_combine(seed, kSaltClumpOrder), ids[i]);
-  std::vector<int32_t> order(n);
+/// The strands in the order their roots arrive (Roots::arrival; ties, or roots without arrival
+/// times, by id). Every subset of the roots that a proxy run or a lower count keeps is a prefix of
+/// this order, so a choice made in this order from earlier strands only is the same in the subset.
+std::vector<int32_t> arrival_order(const Roots &roots) {
+  std::vector<int32_t> order(roots.size());
   std::iota(order.begin(), order.end(), 0);
+  const bool timed = roots.arrival.size() == roots.size();
   std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) {
-    return priority[a] != priority[b] ? priority[a] < priority[b] : ids[a] < ids[b];
+    if (timed && roots.arrival[a] != roots.arrival[b]) return roots.arrival[a] < roots.arrival[b];
+    return roots.ids[a] < roots.ids[b];
   });
+  return order;
+}
 
+/// Clump centres by greedy Poisson-disk selection over the rest root positions, in arrival order
+/// (`order`): a strand becomes a centre when no earlier centre lies within `radius`, and otherwise
+/// joins the nearest of the centres chosen before it (ties: smaller id). A strand's clump depends
+/// only on strands that arrived before it, so adding roots never changes the clump of an existing
+/// one, and it is the same on every frame.
+std::vector<int32_t> poisson_clumps(const std::vector<Eigen::Vector3f> &rest_roots, const std::vector<uint64_t> &ids,
+                                    const std::vector<int32_t> &order, float radius) {
+  const size_t n = rest_roots.size();
   // Uniform grid of cell size `radius`: centres within `radius` of a point lie in its 27 neighbour cells.
   auto cell_of = [&](const Eigen::Vector3f &p) {
     return Eigen::Vector3i(int(std::floor(p.x() / radius)), int(std::floor(p.y() / radius)),
@@ -160,10 +166,10 @@ std::vector<int32_t> poisson_clumps(const std::vector<Eigen::Vector3f> &rest_roo
   };
   std::unordered_map<uint64_t, std::vector<int32_t>> grid;
   const float r2 = radius * radius;
-  auto nearest_centre = [&](const Eigen::Vector3f &p, float max_d2) {
+  auto nearest_centre = [&](const Eigen::Vector3f &p) {
     const Eigen::Vector3i c = cell_of(p);
     int32_t best = -1;
-    float best_d2 = max_d2;
+    float best_d2 = r2;
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
@@ -179,39 +185,31 @@ std::vector<int32_t> poisson_clumps(const std::vector<Eigen::Vector3f> &rest_roo
         }
     return best;
   };
-  for (int32_t i : order)
-    if (nearest_centre(rest_roots[i], r2) < 0) grid[key_of(cell_of(rest_roots[i]))].push_back(i);
-
-  std::vector<int32_t> centre_of(n);
-  for (size_t i = 0; i < n; ++i) {
-    const int32_t c = nearest_centre(rest_roots[i], r2 * 1.0001f + 1e-12f);
-    if (c < 0) throw InternalError("poisson_clumps: a strand has no centre within the clump radius");
-    centre_of[i] = c;
+  std::vector<int32_t> centre_of(n, -1);
+  for (int32_t i : order) {
+    const int32_t c = nearest_centre(rest_roots[i]);
+    if (c >= 0) {
+      centre_of[i] = c;
+    } else {
+      centre_of[i] = i;
+      grid[key_of(cell_of(rest_roots[i]))].push_back(i);
+    }
   }
   return centre_of;
 }
 
-/// One clump per guide: the centre is the strand whose rest root is nearest the guide's root among
-/// the strands whose nearest guide it is (ties: smaller id).
-std::vector<int32_t> guide_clumps(const std::vector<Eigen::Vector3f> &rest_roots, const std::vector<uint64_t> &ids,
-                                  const std::vector<int32_t> &nearest_guide,
-                                  const std::vector<Eigen::Vector3f> &guide_rest_roots) {
-  std::vector<int32_t> best(guide_rest_roots.size(), -1);
-  for (size_t i = 0; i < rest_roots.size(); ++i) {
+/// One clump per guide: the centre is the first strand, in arrival order (`order`), of those whose
+/// nearest guide it is. Adding roots (which arrive later) never changes it.
+std::vector<int32_t> guide_clumps(const std::vector<int32_t> &nearest_guide, const std::vector<int32_t> &order,
+                                  size_t guide_count) {
+  std::vector<int32_t> first(guide_count, -1);
+  for (int32_t i : order) {
     const int32_t g = nearest_guide[i];
-    if (g < 0) continue;
-    int32_t &b = best[g];
-    const float d = (rest_roots[i] - guide_rest_roots[g]).squaredNorm();
-    if (b < 0) {
-      b = int32_t(i);
-      continue;
-    }
-    const float db = (rest_roots[b] - guide_rest_roots[g]).squaredNorm();
-    if (d < db || (d == db && ids[i] < ids[b])) b = int32_t(i);
+    if (g >= 0 && first[g] < 0) first[g] = i;
   }
-  std::vector<int32_t> centre_of(rest_roots.size(), -1);
-  for (size_t i = 0; i < rest_roots.size(); ++i)
-    if (nearest_guide[i] >= 0) centre_of[i] = best[nearest_guide[i]];
+  std::vector<int32_t> centre_of(nearest_guide.size(), -1);
+  for (size_t i = 0; i < nearest_guide.size(); ++i)
+    if (nearest_guide[i] >= 0) centre_of[i] = first[nearest_guide[i]];
   return centre_of;
 }
 
@@ -371,6 +369,7 @@ EffectStack::EffectStack(const std::vector<EffectDesc> &effects, const Mesh &res
     rest_roots[i] = rest_frames_[i].origin;
   }
 
+  std::vector<int32_t> order;  // the strands in arrival order, once a clump needs it
   for (const EffectDesc &desc : effects) {
     Prepared prepared(desc);
     const uint64_t seed = desc.seed;
@@ -401,13 +400,12 @@ EffectStack::EffectStack(const std::vector<EffectDesc> &effects, const Mesh &res
 
     switch (desc.type) {
       case EffectType::clump: {
+        if (order.empty()) order = arrival_order(roots);
         if (desc.clump_centers == EffectDesc::ClumpCenters::per_guide) {
-          std::vector<Eigen::Vector3f> guide_rest_roots(guides.size());
-          for (size_t g = 0; g < guides.size(); ++g) guide_rest_roots[g] = surface_position(rest_mesh, guides.roots[g]);
-          prepared.centre_of = guide_clumps(rest_roots, ids_, nearest_guide, guide_rest_roots);
+          prepared.centre_of = guide_clumps(nearest_guide, order, guides.size());
         } else {
           if (!(desc.clump_radius > 0.0f)) throw InputError(desc.loc, "clump_radius: expected a positive number");
-          prepared.centre_of = poisson_clumps(rest_roots, ids_, desc.clump_radius, seed);
+          prepared.centre_of = poisson_clumps(rest_roots, ids_, order, desc.clump_radius);
         }
         for (size_t i = 0; i < n; ++i) {
           const int32_t c = prepared.centre_of[i];
@@ -868,7 +866,7 @@ void EffectStack::apply(const Mesh &posed_mesh, const MeshQuery &posed_query, co
     // Moving a point changes no later point's test, so a batch is tested before any point of it moves.
     for (int64_t batch = 1; batch < count; batch += 4) {
       const int64_t lanes = std::min<int64_t>(4, count - batch);
-      Float4 before = Float4{} + skin_margin, moved_sq;
+      Float4 before = Float4{} + skin_margin, moved_sq = Float4{} + INFINITY;  // lanes past the end: never proven
       if (lanes == 4) {
         Float4 moved[3], from[3];
         load_lanes(pts.data() + batch, moved);

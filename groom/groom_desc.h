@@ -8,9 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "groom/control_desc.h"
 #include "groom/dynamics_desc.h"
 #include "groom/effect_desc.h"
 #include "groom/error.h"
+#include "groom/feather_desc.h"
 #include "groom/parting.h"
 
 namespace plume {
@@ -70,6 +72,7 @@ inline constexpr int max_preview_size = 8192;
 
 struct OutputSettings {
   std::string path_pattern;    // e.g. out/hair.####.usda (absolute); empty: none
+  std::string vanes_pattern;   // feathers: vane meshes, e.g. out/vanes.####.obj (absolute); empty: none
   std::string frames;          // e.g. "1-48" (empty: 1)
   std::string preview_pattern; // e.g. out/preview.####.png
   int preview_every = 0;       // write a preview every N frames (0: first frame only)
@@ -93,6 +96,10 @@ struct GroomDesc {
   PartingSettings partings;
   std::vector<EffectDesc> effects;
   DynamicsSettings dynamics;
+  /// Enabled when the groom grows feathers (then roots, strands, interpolation, partings and effects
+  /// are not used: follicles, templates and stems say everything).
+  FeatherDesc feathers;
+  ControlSettings controls;
   OutputSettings output;
 
   /// Where the dynamics section is written, or the groom file when it has none (for messages).

@@ -100,6 +100,7 @@ Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::v
 
   roots.points.reserve(candidates.size());
   roots.ids.reserve(candidates.size());
+  roots.arrival.reserve(candidates.size());
   for (const Candidate &c : candidates) {
     const uint64_t h = hash_combine(hash_combine(seed ^ 0x5EEDull, c.face), uint64_t(c.j));
     // Uniform point in the triangle from two hashed numbers (square-root warp).
@@ -110,6 +111,7 @@ Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::v
     sp.bary = Eigen::Vector3f(1.0f - r1, r1 * (1.0f - r2), r1 * r2);
     roots.points.push_back(sp);
     roots.ids.push_back((uint64_t(c.face) << 24) | uint64_t(c.j));
+    roots.arrival.push_back(c.time);
   }
   return roots;
 }

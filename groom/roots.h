@@ -12,6 +12,11 @@ namespace plume {
 struct Roots {
   std::vector<SurfacePoint> points;  // one per root
   std::vector<uint64_t> ids;         // stable ids, one per root
+  /// Empty, or one per root: when the root arrives. A smaller set of the same roots (a proxy run,
+  /// a lower count) holds exactly the roots that arrive first, so anything decided in arrival
+  /// order, looking only at earlier roots, is the same in every such subset (effects/ chooses clump
+  /// centres that way). scatter_roots gives the arrival time; roots from a file, their index in it.
+  std::vector<double> arrival;
   size_t size() const { return points.size(); }
 };
 
@@ -19,7 +24,8 @@ struct Roots {
 /// area-weighted. Stable: the same inputs give the same roots, and a larger count keeps every
 /// root of a smaller one: root j of triangle f arrives at time (j + u) / area with u hashed
 /// from (seed, f, j), and the `count` earliest arrivals are kept. Its position in the triangle
-/// is hashed from the same numbers. Ids are (f << 24) | j. Roots are ordered by triangle.
+/// is hashed from the same numbers. Ids are (f << 24) | j. Roots are ordered by triangle; their
+/// arrival times are in Roots::arrival.
 /// Throws InputError at `where` (the groom's roots settings) when the selected triangles have no
 /// area or an infinite one; it always returns (the search for the arrival time is bounded).
 Roots scatter_roots(const Mesh &mesh, int64_t count, uint64_t seed, const std::vector<bool> &triangle_mask = {},

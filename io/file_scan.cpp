@@ -5,8 +5,11 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <type_traits>
 
 #include <sys/stat.h>
 
@@ -53,13 +56,63 @@ std::string quoted(std::string_view token, size_t max_shown, bool keep_utf8) {
   return s + "\"";
 }
 
-NumberStatus parse_float(std::string_view token, float &r_value) {
+std::string number_text(double value) {
+  char buffer[32];
+  // A float's value (read from a float field) is shown as the float it was written as: 7e+31, not
+  // the double 7.000000135555409e+31.
+  const auto result = fits_float(value) && double(float(value)) == value
+                          ? std::to_chars(buffer, buffer + sizeof(buffer), float(value))
+                          : std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+// Halfway between the largest float and 2^128: from there on, a double rounds to infinity.
+constexpr double kFloatOverflow = 0x1.ffffffp127;
+
+bool fits_float(double value) { return std::abs(value) < kFloatOverflow; }
+
+float to_float(double value) {
+  const double largest = double(std::numeric_limits<float>::max());
+  return float(std::clamp(value, -largest, largest));
+}
+
+std::string float_range_message(double value) {
+  if (!std::isfinite(value)) return "expected a finite number, got " + number_text(value);
+  std::string largest;
+  append_number(largest, std::numeric_limits<float>::max());
+  return "expected a number within float range (magnitude at most " + largest + "), got " + number_text(value);
+}
+
+bool valid_width(double value) { return value >= 0.0 && fits_float(value); }
+
+std::string width_message(double value) {
+  if (std::isfinite(value) && value >= 0.0) return "expected a finite number >= 0 within float range, got " + number_text(value);
+  return "expected a finite number >= 0, got " + number_text(value);
+}
+
+namespace {
+
+template <class Real>
+NumberStatus parse_real(std::string_view token, Real &r_value) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
   const auto result = std::from_chars(token.data(), token.data() + token.size(), r_value);
-  if (result.ec == std::errc::result_out_of_range) return NumberStatus::NotFinite;
-  if (token.empty() || result.ec != std::errc() || result.ptr != token.data() + token.size()) return NumberStatus::NotANumber;
+  if (token.empty() || (result.ec != std::errc() && result.ec != std::errc::result_out_of_range) ||
+      result.ptr != token.data() + token.size())
+    return NumberStatus::NotANumber;
+  if (result.ec == std::errc::result_out_of_range) {
+    // Too large, or too small: the C library tells which (the syntax is the same as from_chars').
+    const std::string text(token);
+    const Real value = std::is_same_v<Real, float> ? Real(std::strtof(text.c_str(), nullptr)) : Real(std::strtod(text.c_str(), nullptr));
+    if (!(std::abs(value) < Real(1))) return NumberStatus::NotFinite;
+    r_value = value;
+  }
   return std::isfinite(r_value) ? NumberStatus::Ok : NumberStatus::NotFinite;
 }
+
+}  // namespace
+
+NumberStatus parse_float(std::string_view token, float &r_value) { return parse_real(token, r_value); }
+NumberStatus parse_double(std::string_view token, double &r_value) { return parse_real(token, r_value); }
 
 NumberStatus parse_int(std::string_view token, long long &r_value) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);

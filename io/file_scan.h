@@ -31,9 +31,30 @@ std::string extension_of(const std::string &path);
 /// bytes (before a whole UTF-8 character) with "..." inside the quotes.
 std::string quoted(std::string_view token, size_t max_shown = 40, bool keep_utf8 = false);
 
+/// Shortest text of a number ("1e+300", "0.5", "nan", "-inf"); a value that is exactly a float, as
+/// its shortest text as a float ("7e+31", not "7.000000135555409e+31").
+std::string number_text(double value);
+
+/// Whether a number read as a double becomes a finite float: false for NaN, infinities and
+/// magnitudes that round to infinity (1e300). A reader checks before it narrows.
+bool fits_float(double value);
+/// The float nearest `value`, which must fit_float() (the conversion beyond the largest float is
+/// undefined in C++ even where it rounds down to it).
+float to_float(double value);
+/// "expected a finite number, got nan" or "expected a number within float range (magnitude at most
+/// 3.4028235e+38), got 1e+300", for a value that fails fits_float().
+std::string float_range_message(double value);
+/// Whether a strand width is a number >= 0 that fits a float.
+bool valid_width(double value);
+/// "expected a finite number >= 0, got -1" for a value that fails valid_width().
+std::string width_message(double value);
+
 enum class NumberStatus { Ok, NotANumber, NotFinite };
 /// Parses a whole token as a float (a leading '+' is allowed); NotFinite for nan, inf or overflow.
+/// A number too small for a float reads as the nearest one (0 or a subnormal), as strtof gives it.
 NumberStatus parse_float(std::string_view token, float &r_value);
+/// parse_float() for a double.
+NumberStatus parse_double(std::string_view token, double &r_value);
 /// Parses a whole token as an integer (a leading '+' is allowed).
 NumberStatus parse_int(std::string_view token, long long &r_value);
 

@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "groom/limits.h"
+#include "io/feather_file.h"
+#include "io/control_section.h"
 #include "io/yaml_fields.h"
 
 namespace plume::io {
@@ -600,6 +602,10 @@ void GroomReader::read_output(YamlMap &root, GroomDesc &groom) {
   OutputSettings &o = groom.output;
   o.loc = out.loc();
   o.path_pattern = output_pattern(out, "path", {".usda", ".hair", ".ply", ".obj"}, false);
+  if (groom.feathers.enabled)
+    o.vanes_pattern = output_pattern(out, "vanes", {".usda", ".obj"}, false);
+  else
+    forbid(out, "vanes", "without a feathers section (vanes are feather meshes)");
   o.frames = out.string("frames", o.frames);
   if (!o.frames.empty() && !valid_frame_range(o.frames))
     fail_expected(file_, out.node("frames"), out.key_path("frames"), "a frame range A, A-B or A-B:S (A <= B, S >= 1)");
@@ -639,15 +645,23 @@ GroomDesc GroomReader::read(const YAML::Node &document) {
   groom.guides_loc = guides.loc("file");
   guides.finish();
 
-  read_roots(root, groom);
-  read_strands(root, groom);
-  read_interpolation(root, groom);
-  read_partings(root, groom);
-
-  const std::vector<YAML::Node> effects = root.sequence("effects");
-  for (size_t i = 0; i < effects.size(); ++i) groom.effects.push_back(read_effect(effects[i], indexed("effects", i)));
+  if (root.given("feathers")) {
+    // A feather groom: its follicles, templates and stems say where and what grows.
+    for (const char *key : {"roots", "strands", "interpolation", "partings", "effects"})
+      forbid(root, key, "in a feather groom (feathers.follicles places the feathers)");
+    groom.feathers = read_feathers_section(root.node("feathers"), file_, folder_.string());
+    set_feather_dynamics_defaults(groom.dynamics);
+  } else {
+    read_roots(root, groom);
+    read_strands(root, groom);
+    read_interpolation(root, groom);
+    read_partings(root, groom);
+    const std::vector<YAML::Node> effects = root.sequence("effects");
+    for (size_t i = 0; i < effects.size(); ++i) groom.effects.push_back(read_effect(effects[i], indexed("effects", i)));
+  }
 
   read_dynamics(root, groom);
+  read_controls_section(root, file_, groom);
   read_output(root, groom);
   root.finish();
   return groom;
@@ -687,38 +701,46 @@ std::string describe_groom(const GroomDesc &groom) {
     case EmitterAnimation::Kind::rigid: out << ", " << groom.animation.keys.size() << " rigid keys\n"; break;
   }
   out << "guides: " << groom.guides_path << "\n";
-  const RootSettings &r = groom.roots;
-  if (r.source == RootSettings::Source::file) {
-    out << "roots: from " << r.file << "\n";
+  if (groom.feathers.enabled) {
+    out << describe_feathers(groom.feathers);
   } else {
-    out << "roots: ";
-    if (r.count > 0) out << r.count << " scattered";
-    else out << format_number(r.density) << " per unit area";
-    if (!r.groups.empty()) out << " on " << join(r.groups, ", ");
-    if (r.near_guides > 0.0) out << ", within " << format_number(r.near_guides) << " of a guide root";
-    out << ", seed " << r.seed << "\n";
+    const RootSettings &r = groom.roots;
+    if (r.source == RootSettings::Source::file) {
+      out << "roots: from " << r.file << "\n";
+    } else {
+      out << "roots: ";
+      if (r.count > 0) out << r.count << " scattered";
+      else out << format_number(r.density) << " per unit area";
+      if (!r.groups.empty()) out << " on " << join(r.groups, ", ");
+      if (r.near_guides > 0.0) out << ", within " << format_number(r.near_guides) << " of a guide root";
+      out << ", seed " << r.seed << "\n";
+    }
+    out << "strands: " << groom.points_per_strand << " points, width " << format_number(groom.width_root) << " to "
+        << format_number(groom.width_tip) << "\n";
+    const InterpolationSettings &s = groom.interpolation;
+    out << "interpolation: " << methods[int(s.method)] << ", k " << s.k << ", falloff " << format_number(s.falloff)
+        << ", skin margin " << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
+    const PartingSettings &p = groom.partings;
+    static const char *zone_sources[] = {"none", "face groups", "zone map", "hard lines"};
+    out << "partings: zones " << zone_sources[int(p.zone_source)] << ", " << p.lines.size() << " lines\n";
+    out << "effects:";
+    if (groom.effects.empty()) out << " none";
+    for (const EffectDesc &e : groom.effects) out << " " << effect_names[int(e.type)] << "(" << format_number(e.amount) << ")";
+    out << "\n";
   }
-  out << "strands: " << groom.points_per_strand << " points, width " << format_number(groom.width_root) << " to "
-      << format_number(groom.width_tip) << "\n";
-  const InterpolationSettings &s = groom.interpolation;
-  out << "interpolation: " << methods[int(s.method)] << ", k " << s.k << ", falloff " << format_number(s.falloff)
-      << ", skin margin " << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
-  const PartingSettings &p = groom.partings;
-  static const char *zone_sources[] = {"none", "face groups", "zone map", "hard lines"};
-  out << "partings: zones " << zone_sources[int(p.zone_source)] << ", " << p.lines.size() << " lines\n";
-  out << "effects:";
-  if (groom.effects.empty()) out << " none";
-  for (const EffectDesc &e : groom.effects) out << " " << effect_names[int(e.type)] << "(" << format_number(e.amount) << ")";
-  out << "\n";
   const DynamicsSettings &d = groom.dynamics;
   if (d.enabled)
     out << "dynamics: " << d.substeps << " substeps at " << format_number(d.fps) << " fps, " << d.shapes.size()
         << " collision shapes" << (d.collide_with_emitter ? " + emitter" : "") << "\n";
   else
     out << "dynamics: off\n";
+  if (!groom.controls.empty())
+    out << "controls: " << groom.controls.controls.size() << ", "
+        << (groom.controls.binding == ControlSettings::Binding::nearest ? "nearest" : "blended") << " binding\n";
   const OutputSettings &o = groom.output;
   out << "output: " << (o.path_pattern.empty() ? "(none)" : o.path_pattern)
       << ", frames " << (o.frames.empty() ? "1" : o.frames) << "\n";
+  if (!o.vanes_pattern.empty()) out << "vanes: " << o.vanes_pattern << "\n";
   return out.str();
 }
 

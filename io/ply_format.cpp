@@ -141,8 +141,9 @@ class PlyReader {
         if (type == "list") {
           property.is_list = true;
           const std::string_view count_type = LineCursor::take_token(rest);
-          if (!parse_type(count_type, property.count_type))
-            header.fail(count_type, "property list: expected a count type (uchar, int, ...), got " + quoted(count_type));
+          if (!parse_type(count_type, property.count_type) || property.count_type == PlyType::Float32 ||
+              property.count_type == PlyType::Float64)
+            header.fail(count_type, "property list: expected an integer count type (uchar, int, ...), got " + quoted(count_type));
           type = LineCursor::take_token(rest);
         }
         if (!parse_type(type, property.type))
@@ -195,23 +196,28 @@ class PlyReader {
     if (element == vertex_element_) {
       for (int axis = 0; axis < 3; ++axis)
         if (property == roles_.xyz[axis]) {
-          if (!std::isfinite(value))
-            fail_at(loc, "vertex " + std::to_string(item) + ": " + "xyz"[axis] + ": expected a finite number, got " + std::to_string(value));
-          data_.positions[item][axis] = float(value);
+          if (!fits_float(value))
+            fail_at(loc, "vertex " + std::to_string(item) + ": " + "xyz"[axis] + ": " + float_range_message(value));
+          data_.positions[item][axis] = to_float(value);
         }
       if (property == roles_.width) {
-        if (!std::isfinite(value) || value < 0.0)
-          fail_at(loc, "vertex " + std::to_string(item) + ": width: expected a finite number >= 0, got " + std::to_string(value));
-        data_.widths[item] = float(value);
+        if (!valid_width(value)) fail_at(loc, "vertex " + std::to_string(item) + ": width: " + width_message(value));
+        data_.widths[item] = to_float(value);
       }
-      if (property == roles_.strand) data_.strand_ids[item] = int64_t(value);
+      if (property == roles_.strand) {
+        // Any integer a double holds; 2^63 and beyond would not convert.
+        if (!(std::abs(value) < 0x1p63) || value != std::floor(value))
+          fail_at(loc, "vertex " + std::to_string(item) + ": " + elements_[vertex_element_].properties[size_t(property)].name +
+                           ": expected an integer id, got " + number_text(value));
+        data_.strand_ids[item] = int64_t(value);
+      }
     } else if (element == edge_element_) {
       for (int end = 0; end < 2; ++end)
         if (property == roles_.vertex12[end]) {
           const uint64_t vertex_num = elements_[vertex_element_].count;
           if (!(value >= 0.0 && value < double(vertex_num)) || value != std::floor(value))
             fail_at(loc, "edge " + std::to_string(item) + ": vertex" + std::to_string(end + 1) + ": expected a vertex index 0.." +
-                             std::to_string(int64_t(vertex_num) - 1) + ", got " + std::to_string((long long)value));
+                             std::to_string(int64_t(vertex_num) - 1) + ", got " + number_text(value));
           data_.edges[item][end] = int64_t(value);
           if (end == 0) data_.edge_locs[item] = loc;
         }
@@ -240,6 +246,7 @@ class PlyReader {
       for (const PlyProperty &property : element.properties)
         min_item_bytes += uint64_t(type_bytes(property.is_list ? property.count_type : property.type));
       in.require(offset, element.count, min_item_bytes, "element " + element.name);
+      if (element.properties.empty()) continue;  // items of no bytes, however many
       const bool has_lists = std::any_of(element.properties.begin(), element.properties.end(),
                                          [](const PlyProperty &property) { return property.is_list; });
       allocate(int(e));
@@ -249,8 +256,8 @@ class PlyReader {
           const PlyProperty &property = element.properties[p];
           if (property.is_list) {
             in.require(offset, 1, type_bytes(property.count_type), "element " + element.name + " list count");
-            const double count = read_binary(in, offset, property.count_type);
-            if (count < 0) in.fail(offset, "element " + element.name + ": list " + property.name + ": expected a count >= 0, got " + std::to_string(count));
+            const double count = read_binary(in, offset, property.count_type);  // an integer type: exact
+            if (count < 0) in.fail(offset, "element " + element.name + ": list " + property.name + ": expected a count >= 0, got " + number_text(count));
             offset += type_bytes(property.count_type);
             in.require(offset, uint64_t(count), type_bytes(property.type), "element " + element.name + " list " + property.name);
             offset += size_t(count) * type_bytes(property.type);
@@ -267,8 +274,10 @@ class PlyReader {
   }
 
   void read_ascii_body(LineCursor &lines) {
-    uint64_t total_items = 0;
-    for (const PlyElement &element : elements_) total_items += element.count;
+    uint64_t total_items = 0;  // saturating: no list of counts can wrap around into agreement
+    for (const PlyElement &element : elements_)
+      total_items = element.count > std::numeric_limits<uint64_t>::max() - total_items ? std::numeric_limits<uint64_t>::max()
+                                                                                       : total_items + element.count;
     // One item per line: the header's counts cannot exceed the lines the file has.
     const size_t lines_left = lines.lines_left();
     if (total_items > lines_left)

@@ -5,7 +5,9 @@
 
 namespace plume::io {
 
-StrandSet read_strands(const std::string &path) {
+namespace {
+
+StrandSet read_by_extension(const std::string &path) {
   const std::string ext = detail::extension_of(path);
   if (ext == ".hair") return detail::read_hair(path);
   if (ext == ".ply") return detail::read_ply(path);
@@ -13,6 +15,23 @@ StrandSet read_strands(const std::string &path) {
   if (ext == ".obj") return detail::read_obj_strands(path);
   throw InputError(FileLoc{path}, "strand file: expected extension .hair, .ply, .usda or .obj, got " +
                                       detail::quoted(ext));
+}
+
+}  // namespace
+
+StrandSet read_strands(const std::string &path) {
+  StrandSet strands = read_by_extension(path);
+  strands.check_invariants();  // a reader's bug, not the file's
+  // Each reader refuses a bad value where it reads it, naming its place; these are the promises
+  // whatever the format.
+  for (size_t s = 0; s < strands.strand_count(); ++s)
+    if (strands.points_in(s) < 2)
+      throw InputError(FileLoc{path}, "strand " + std::to_string(s) + ": expected at least 2 points, got " +
+                                          std::to_string(strands.points_in(s)));
+  for (size_t p = 0; p < strands.widths.size(); ++p)
+    if (!detail::valid_width(strands.widths[p]))
+      throw InputError(FileLoc{path}, "point " + std::to_string(p) + ": width: " + detail::width_message(strands.widths[p]));
+  return strands;
 }
 
 void write_strands(const std::string &path, const StrandSet &strands, const StrandWriteOptions &options) {

@@ -22,8 +22,12 @@ namespace plume::io {
 ///   other tools), else 0..n-1.
 /// - `.obj`: `v` lines and `l` lines; consecutive `l` lines that share an end point are chained
 ///   into one strand; ids 0..n-1.
-/// Every strand has at least 2 points. Throws InputError with `file:line` (text) or
-/// `file@byte N` (binary) and what was expected, for any malformed, truncated or non-finite input.
+/// Every strand has at least 2 points, every coordinate is a finite float and every width a finite
+/// float >= 0 (a value beyond float range, such as 1e300 in a .usda or a double PLY, is refused, not
+/// read as infinity). Points are not held to the scene bound here (files round-trip any float):
+/// the stages that take them as guides, roots or caches check it. Throws InputError with
+/// `file:line` (text) or `file@byte N` (binary) and what was expected, for any malformed,
+/// truncated, non-finite or out-of-range input.
 StrandSet read_strands(const std::string &path);
 
 struct StrandWriteOptions {

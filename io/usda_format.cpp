@@ -153,6 +153,9 @@ bool is_punct(const Token &token, char c) { return token.kind == TokenKind::Punc
 /// An attribute value of the curves prim, with where it was declared.
 struct ArrayValue {
   bool integer = false;          // parsed exactly into `integers` (64-bit ids do not fit a double)
+  /// What each number must be, checked as it is read (with its place) before any is narrowed to a
+  /// float: coordinates within float range, widths >= 0 and within it.
+  enum class Bound { none, coordinate, width } bound = Bound::none;
   std::vector<double> values;    // flattened tuples, when not integer
   std::vector<int64_t> integers;
   Token at;
@@ -305,17 +308,18 @@ class UsdaReader {
     if (first) lexer.fail(target.at, "points.timeSamples: expected at least one sample, got none");
   }
 
-  double parse_number(UsdaLexer &lexer, std::string_view what) {
+  double parse_number(UsdaLexer &lexer, std::string_view what, ArrayValue::Bound bound = ArrayValue::Bound::none) {
     const Token token = lexer.next();
     if (token.kind != TokenKind::Number) lexer.fail(token, std::string(what) + ": expected a number, got " + UsdaLexer::describe(token));
     double value = 0.0;
     std::string_view digits = token.text;
     if (digits.front() == '+') digits.remove_prefix(1);
-    const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-    if (result.ec == std::errc::result_out_of_range || (result.ec == std::errc() && !std::isfinite(value)))
-      lexer.fail(token, std::string(what) + ": expected a finite number, got " + quoted(token.text));
-    if (result.ec != std::errc() || result.ptr != digits.data() + digits.size())
-      lexer.fail(token, std::string(what) + ": expected a number, got " + quoted(token.text));
+    const NumberStatus status = parse_double(digits, value);
+    if (status == NumberStatus::NotFinite) lexer.fail(token, std::string(what) + ": expected a finite number, got " + quoted(token.text));
+    if (status == NumberStatus::NotANumber) lexer.fail(token, std::string(what) + ": expected a number, got " + quoted(token.text));
+    if (bound == ArrayValue::Bound::coordinate && !fits_float(value))
+      lexer.fail(token, std::string(what) + ": " + float_range_message(value));
+    if (bound == ArrayValue::Bound::width && !valid_width(value)) lexer.fail(token, std::string(what) + ": " + width_message(value));
     return value;
   }
 
@@ -342,13 +346,13 @@ class UsdaReader {
         lexer.expect_punct('(', name, tuple_detail);
         for (int k = 0; k < tuple; ++k) {
           if (k > 0) lexer.expect_punct(',', name, tuple_detail);
-          target.values.push_back(parse_number(lexer, name));
+          target.values.push_back(parse_number(lexer, name, target.bound));
         }
         lexer.expect_punct(')', name, tuple_detail);
       } else if (target.integer) {
         target.integers.push_back(parse_integer(lexer, name));
       } else {
-        target.values.push_back(parse_number(lexer, name));
+        target.values.push_back(parse_number(lexer, name, target.bound));
       }
       if (is_punct(lexer.peek(), ',')) lexer.next();
       else if (!is_punct(lexer.peek(), ']'))
@@ -384,39 +388,35 @@ class UsdaReader {
     if (!points_.present) fail(curves_at_, "BasisCurves: expected point3f[] points, found none");
     const size_t point_num = points_.values.size() / 3;
     uint64_t counted = 0;
-    for (size_t s = 0; s < counts_.values.size(); ++s) {
-      const double count = counts_.values[s];
-      if (count < 2 || count != std::floor(count))
-        fail(counts_.at, "curveVertexCounts[" + std::to_string(s) + "]: expected an integer >= 2 (linear curves), got " +
+    for (size_t s = 0; s < counts_.integers.size(); ++s) {
+      const int64_t count = counts_.integers[s];
+      if (count < 2 || count > std::numeric_limits<int32_t>::max())
+        fail(counts_.at, "curveVertexCounts[" + std::to_string(s) + "]: expected an integer >= 2 (linear curves) that fits int, got " +
                              std::to_string(count));
-      // Saturating sum: no count list can overflow it into agreement.
-      counted = uint64_t(count) > std::numeric_limits<uint64_t>::max() - counted ? std::numeric_limits<uint64_t>::max()
-                                                                               : counted + uint64_t(count);
+      counted += uint64_t(count);  // below 2^31 each: no list a file can hold overflows the sum
     }
     if (counted != point_num)
       fail(counts_.at, "curveVertexCounts: expected to add up to the " + std::to_string(point_num) + " points, got " +
                            std::to_string(counted));
     StrandSet strands;
-    const size_t strand_num = counts_.values.size();
+    const size_t strand_num = counts_.integers.size();
     strands.offsets.resize(strand_num + 1);
-    for (size_t s = 0; s < strand_num; ++s) strands.offsets[s + 1] = strands.offsets[s] + int64_t(counts_.values[s]);
+    for (size_t s = 0; s < strand_num; ++s) strands.offsets[s + 1] = strands.offsets[s] + counts_.integers[s];
     strands.positions.resize(point_num);
     for (size_t p = 0; p < point_num; ++p)
-      strands.positions[p] = Eigen::Vector3f(float(points_.values[3 * p]), float(points_.values[3 * p + 1]),
-                                             float(points_.values[3 * p + 2]));
+      strands.positions[p] = Eigen::Vector3f(to_float(points_.values[3 * p]), to_float(points_.values[3 * p + 1]),
+                                             to_float(points_.values[3 * p + 2]));
     if (widths_.present) {
-      const std::vector<double> &w = widths_.values;
-      for (size_t i = 0; i < w.size(); ++i)
-        if (w[i] < 0.0) fail(widths_.at, "widths[" + std::to_string(i) + "]: expected >= 0, got " + std::to_string(w[i]));
+      const std::vector<double> &w = widths_.values;  // each >= 0 within float range (Bound::width)
       const std::string &interpolation = widths_.interpolation.empty() ? std::string("vertex") : widths_.interpolation;
       strands.widths.resize(point_num);
       if (interpolation == "constant" && w.size() == 1) {
-        std::fill(strands.widths.begin(), strands.widths.end(), float(w[0]));
+        std::fill(strands.widths.begin(), strands.widths.end(), to_float(w[0]));
       } else if (interpolation == "uniform" && w.size() == strand_num) {
         for (size_t s = 0; s < strand_num; ++s)
-          std::fill(strands.widths.begin() + strands.offsets[s], strands.widths.begin() + strands.offsets[s + 1], float(w[s]));
+          std::fill(strands.widths.begin() + strands.offsets[s], strands.widths.begin() + strands.offsets[s + 1], to_float(w[s]));
       } else if ((interpolation == "vertex" || interpolation == "varying") && w.size() == point_num) {
-        for (size_t p = 0; p < point_num; ++p) strands.widths[p] = float(w[p]);
+        for (size_t p = 0; p < point_num; ++p) strands.widths[p] = to_float(w[p]);
       } else {
         fail(widths_.at, "widths: expected 1 (constant), " + std::to_string(strand_num) + " (uniform) or " +
                              std::to_string(point_num) + " (vertex) values matching interpolation \"" + interpolation +
@@ -446,12 +446,18 @@ class UsdaReader {
   std::string text_;
   bool curves_found_ = false;
   Token curves_at_;
-  ArrayValue counts_, points_, widths_;
   static ArrayValue integer_array() {
     ArrayValue array;
     array.integer = true;
     return array;
   }
+  static ArrayValue bounded_array(ArrayValue::Bound bound) {
+    ArrayValue array;
+    array.bound = bound;
+    return array;
+  }
+  ArrayValue counts_ = integer_array();
+  ArrayValue points_ = bounded_array(ArrayValue::Bound::coordinate), widths_ = bounded_array(ArrayValue::Bound::width);
   ArrayValue plume_ids_ = integer_array(), groom_ids_ = integer_array();
 };
 

@@ -63,13 +63,28 @@ inline RunResult run_plume(const std::string &args, const ScratchDir &scratch) {
 
 /// run_plume() under an address-space limit (KiB, default 2 GB) and a 60 s timeout, for inputs that
 /// once made plume allocate without bound or loop: a regression then fails (exit 1 or 124) instead
-/// of taking the machine. Two OpenMP threads (OMP_NUM_THREADS = `omp_threads`) and two malloc
-/// arenas, so that the address space a run reserves (a stack per thread, up to 64 MB per arena)
-/// does not grow with the machine's cores.
+/// of taking the machine. Two OpenMP threads (OMP_NUM_THREADS = `omp_threads`, as the shell reads
+/// it) and two malloc arenas, so that the address space a run reserves (a stack per thread, up to
+/// 64 MB per arena) does not grow with the machine's cores.
+///
+/// In a sanitizer build (tests/sanitize.sh) AddressSanitizer, which reserves terabytes of address
+/// space for its shadow memory, cannot start under `ulimit -v`: memory is bounded by AddressSanitizer
+/// itself instead. An allocation larger than the limit, or a resident size (shadow and quarantine of
+/// freed blocks included) above twice the limit, ends the run with a report and exit 1. The timeout
+/// is 300 s there: sanitized code runs several times slower.
 inline RunResult run_plume_bounded(const std::string &args, const ScratchDir &scratch,
                                    long long address_space_kib = 2000000, const std::string &omp_threads = "2") {
-  return run_plume_command("ulimit -v " + std::to_string(address_space_kib) + "; OMP_NUM_THREADS=" + omp_threads +
-                               " MALLOC_ARENA_MAX=2 exec timeout 60 " + quoted(PLUME_BINARY) + " " + args,
+#if defined(__SANITIZE_ADDRESS__)
+  const long long limit_mb = address_space_kib / 1024;
+  const std::string bound = "export ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}max_allocation_size_mb=" +
+                            std::to_string(limit_mb) + ":hard_rss_limit_mb=" + std::to_string(2 * limit_mb) + "\"; ";
+  const std::string timeout = "300";
+#else
+  const std::string bound = "ulimit -v " + std::to_string(address_space_kib) + "; ";
+  const std::string timeout = "60";
+#endif
+  return run_plume_command(bound + "OMP_NUM_THREADS=" + omp_threads + " MALLOC_ARENA_MAX=2 exec timeout " + timeout + " " +
+                               quoted(PLUME_BINARY) + " " + args,
                            scratch);
 }
 

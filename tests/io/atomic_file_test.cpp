@@ -1,5 +1,11 @@
-// AtomicFile: a file appears whole on commit, and nothing is left when the writer throws.
+// AtomicFile: a file appears whole on commit, and nothing is left when the writer throws; the
+// temporary files of writers killed by SIGKILL are found and removed, and only those.
 #include <catch2/catch.hpp>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -59,4 +65,77 @@ TEST_CASE("AtomicFile names the file when it cannot be created", "[io]") {
   std::ofstream(dir.file("plain")) << "x";
   CHECK_THROWS_WITH(plume::io::AtomicFile(dir.file("plain/sub/out.hair")),
                     Catch::Contains("plain/sub/out.hair") && Catch::Contains("cannot create"));
+}
+
+TEST_CASE("AtomicFile removes the folders it made when its file cannot be created", "[io]") {
+  plume::test::ScratchDir dir("atomic_folders");
+  const std::string too_long(300, 'n');
+  CHECK_THROWS_WITH(plume::io::AtomicFile(dir.file("new/deeper/" + too_long)), Catch::Contains("cannot create file"));
+  CHECK(std::filesystem::is_empty(dir.path()));
+  // A folder that was there stays, and so do the folders holding a file written before.
+  std::filesystem::create_directories(dir.file("kept"));
+  {
+    plume::io::AtomicFile file(dir.file("made/first.txt"));
+    file.write("x");
+    file.commit();
+  }
+  CHECK_THROWS(plume::io::AtomicFile(dir.file("kept/sub/" + too_long)));
+  CHECK_THROWS(plume::io::AtomicFile(dir.file("made/" + too_long)));
+  CHECK(std::filesystem::is_directory(dir.file("kept")));
+  CHECK_FALSE(std::filesystem::exists(dir.file("kept/sub")));
+  CHECK(std::filesystem::exists(dir.file("made/first.txt")));
+}
+
+namespace {
+
+/// A process id that names no process: a child that has exited and been reaped.
+pid_t dead_pid() {
+  const pid_t pid = fork();
+  if (pid == 0) _exit(0);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return pid;
+}
+
+}  // namespace
+
+TEST_CASE("stale temporary files are removed only when they are the outputs', their writer is gone and unlocked",
+          "[io]") {
+  plume::test::ScratchDir dir("stale_temps");
+  const std::string dead = std::to_string(long(dead_pid()));
+  const std::string alive = std::to_string(long(getppid()));  // the test runner's parent: running
+  auto make = [&](const std::string &name) {
+    std::ofstream(dir.file(name)) << "partial";
+    return dir.file(name);
+  };
+  const std::string stale = make("out.usda.tmp-" + dead);
+  const std::string running = make("out.usda.tmp-" + alive);
+  const std::string other_output = make("other.usda.tmp-" + dead);
+  const std::string not_a_pid = make("out.usda.tmp-x" + dead);
+  const std::string zero_padded = make("out.usda.tmp-0" + dead);
+  const std::string not_temp = make("out.usda");
+  std::filesystem::create_directories(dir.file("out.usda.tmp-" + dead + "0"));  // a folder, not a file
+  // A file that a writer elsewhere holds locked: its process id means nothing on this machine.
+  const std::string locked = make("locked.usda.tmp-" + dead);
+  const int fd = ::open(locked.c_str(), O_RDWR);
+  REQUIRE(fd >= 0);
+  REQUIRE(::flock(fd, LOCK_EX) == 0);
+  // An open AtomicFile holds its own temporary file locked too.
+  plume::io::AtomicFile open_file(dir.file("open.usda"));
+  const int probe = ::open(open_file.temp_path().c_str(), O_RDWR);
+  REQUIRE(probe >= 0);
+  CHECK(::flock(probe, LOCK_EX | LOCK_NB) != 0);
+  ::close(probe);
+
+  const auto outputs = [](const std::string &name) { return name == "out.usda" || name == "locked.usda"; };
+  const std::vector<std::string> removed = plume::io::remove_stale_temp_files(dir.path().string(), outputs);
+  CHECK(removed == std::vector<std::string>{stale});
+  CHECK_FALSE(std::filesystem::exists(stale));
+  for (const std::string &kept : {running, other_output, not_a_pid, zero_padded, not_temp, locked})
+    CHECK(std::filesystem::exists(kept));
+  CHECK(std::filesystem::is_directory(dir.file("out.usda.tmp-" + dead + "0")));
+  ::close(fd);
+  // Unlocked now: stale.
+  CHECK(plume::io::remove_stale_temp_files(dir.path().string(), outputs) == std::vector<std::string>{locked});
+  CHECK(plume::io::remove_stale_temp_files(dir.file("no_such_folder"), outputs).empty());
 }

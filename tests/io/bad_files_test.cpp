@@ -103,12 +103,34 @@ TEST_CASE("a broken .usda file is rejected with file:line:column and what was ex
   check_bad_files({
       {"usda_bad_header.usda", Reader::Strands, {":1:1", "first line: expected \"#usda 1.0\", got \"#usda 2.0\""}},
       {"usda_counts_mismatch.usda", Reader::Strands, {":11:", "curveVertexCounts: expected to add up to the 4 points, got 5"}},
-      {"usda_huge_count.usda", Reader::Strands, {":11:", "curveVertexCounts: expected to add up to the 2 points, got 4000000000"}},
+      {"usda_huge_count.usda", Reader::Strands, {":11:", "curveVertexCounts[0]: expected an integer >= 2 (linear curves) that fits int, got 4000000000"}},
       {"usda_nan.usda", Reader::Strands, {":12:44", "points: expected a number, got \"nan\""}},
       {"usda_syntax.usda", Reader::Strands, {":12:9", "curveVertexCounts: expected ',' or ']', got \"point3f\""}},
       {"usda_no_curves.usda", Reader::Strands, {"expected a BasisCurves prim, found none"}},
       {"usda_bad_widths.usda", Reader::Strands, {":13:", "widths: expected 1 (constant), 1 (uniform) or 2 (vertex) values", "got 3"}},
       {"usda_bad_tuple.usda", Reader::Strands, {":12:", "points: a tuple of 3: expected ','"}},
+  });
+}
+
+TEST_CASE("a value beyond float range is refused with its place, not read as an infinite point", "[io]") {
+  check_bad_files({
+      {"usda_point_1e300.usda", Reader::Strands, {":12:41", "points: expected a number within float range (magnitude at most 3.4028235e+38), got 1e+300"}},
+      {"usda_width_1e300.usda", Reader::Strands, {":13:32", "widths: expected a finite number >= 0 within float range, got 1e+300"}},
+      {"ply_binary_double_1e300.ply", Reader::Strands, {"@byte 199", "vertex 1: x: expected a number within float range", "got 1e+300"}},
+  });
+  // The same points through the roots reader, which reads strand files too.
+  check_bad_files({{"usda_point_1e300.usda", Reader::Points, {":12:41", "got 1e+300"}}});
+}
+
+TEST_CASE("a number no integer of its field holds is refused with its place, not converted", "[io]") {
+  check_bad_files({
+      {"usda_counts_1e30.usda", Reader::Strands, {":11:36", "curveVertexCounts: expected an integer, got \"1e30\""}},
+      {"ply_strand_id_7e31.ply", Reader::Strands, {":9", "vertex 0: strand: expected an integer id, got 7e+31"}},
+      {"ply_binary_strand_id_nan.ply", Reader::Strands, {"@byte 169", "vertex 1: curve: expected an integer id, got nan"}},
+      {"ply_edge_index_1e30.ply", Reader::Strands, {"@byte 210", "edge 0: vertex2: expected a vertex index 0..1, got 1e+30"}},
+      {"ply_float_list_count.ply", Reader::Strands, {":7:", "property list: expected an integer count type (uchar, int, ...), got \"float\""}},
+      // Element counts that add up to 2^64 + 1: a sum that wrapped let the reader allocate 2^63 vertices.
+      {"ply_count_wraps.ply", Reader::Strands, {":12:", "elements: expected 18446744073709551615 lines of data", "the file has 1"}},
   });
 }
 

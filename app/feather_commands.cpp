@@ -1,0 +1,225 @@
+#include "app/feather_commands.h"
+
+#include <cstdio>
+
+#include "app/commands.h"
+#include "app/feather_pipeline.h"
+#include "app/feather_preview.h"
+#include "app/progress.h"
+#include "groom/error.h"
+#include "groom/mesh_query.h"
+#include "io/feather_writers.h"
+#include "io/groom_file.h"
+#include "io/file_scan.h"
+#include "io/obj_mesh.h"
+#include "io/strand_file.h"
+
+namespace plume {
+
+namespace {
+
+const std::vector<std::string> kCurveExtensions = {".usda", ".hair", ".ply", ".obj"};
+const std::vector<std::string> kVaneExtensions = {".usda", ".obj"};
+
+/// A feather's tone in previews: a warm grey-brown, lighter than hair.
+PreviewStyle feather_style(int size) {
+  PreviewStyle style;
+  style.size = size;
+  style.hair_color = Eigen::Vector3f(0.30f, 0.22f, 0.14f);
+  style.strand_brush = 2;
+  return style;
+}
+
+}  // namespace
+
+void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
+  const FrameRange range = frames_to_produce(args.frames, groom);
+  const std::string out = args.out.empty() ? groom.output.path_pattern : args.out;
+  const std::string out_what = args.out.empty() ? groom.source + ": output.path" : "--out";
+  const std::string vanes = args.vanes.empty() ? groom.output.vanes_pattern : args.vanes;
+  const std::string vanes_what = args.vanes.empty() ? groom.source + ": output.vanes" : "--vanes";
+  if (out.empty() && vanes.empty())
+    throw InputError("--out: expected an output for the feather curves (or --vanes for the vane meshes), got none "
+                     "(the groom has neither output.path nor output.vanes)");
+  if (!out.empty()) check_output_pattern(out, range, out_what, kCurveExtensions);
+  if (!vanes.empty()) check_output_pattern(vanes, range, vanes_what, kVaneExtensions);
+  if (!out.empty() && out == vanes)
+    throw InputError(vanes_what + ": expected another path than the curves' (" + out + ")");
+  const PreviewSchedule previews(args.preview.empty() ? groom.output.preview_pattern : args.preview,
+                                 args.preview_every >= 0 ? args.preview_every : groom.output.preview_every, range,
+                                 args.preview.empty() ? groom.source + ": output.preview" : "--preview");
+  const RunInputs inputs(groom, args.guides_cache);
+  if (!out.empty()) check_output_locations(out, range, out_what, inputs);
+  if (!vanes.empty()) check_output_locations(vanes, range, vanes_what, inputs);
+  previews.check_locations(range, inputs);
+  const int preview_size = preview_size_of(args.preview_size, groom);
+  set_thread_count(args.threads);
+
+  PipelineOptions options;
+  options.strand_count = args.strands;
+  options.guides_cache = args.guides_cache;
+  options.simulation_start = std::min(groom_first_frame(groom), range.first);
+  FeatherPipeline pipeline(groom, options);
+  pipeline.base().check_frame_inputs(range);
+
+  io::FeatherWriteOptions write_options = pipeline.write_options();
+  PreviewCamera camera;
+  if (!previews.path_at(0, range.first).empty())  // previews are due: the first frame always gets one
+    camera = feather_camera(pipeline.base().rest_mesh(), pipeline.rest_frame().curves.curves);
+
+  Progress progress("regrow", int(range.count()));
+  for (int64_t i = 0; i < range.count(); ++i) {
+    const int frame = range.at(i);
+    const FeatherPipeline::Frame result = pipeline.produce(frame);
+    write_options.time_code = frame;
+    if (!out.empty()) io::write_feather_curves(expand_frame_pattern(out, frame), result.feathers.curves, write_options);
+    if (!vanes.empty()) io::write_vane_mesh(expand_frame_pattern(vanes, frame), result.feathers.vanes, write_options);
+    const std::string preview = previews.path_at(i, frame);
+    if (!preview.empty())
+      write_png(preview, render_feather_preview(camera, result.mesh, result.feathers,
+                                                args.preview_guides ? &result.stems : nullptr, feather_style(preview_size)));
+    progress.frame_done(frame);
+  }
+}
+
+void run_feather_preview(const GroomDesc &groom, int frame, const std::string &out, int size, bool stems, int threads,
+                         int64_t strands, const std::string &guides_cache) {
+  set_thread_count(threads);
+  PipelineOptions options;
+  options.strand_count = strands;
+  options.guides_cache = guides_cache;
+  options.simulation_start = std::min(groom_first_frame(groom), frame);
+  FeatherPipeline pipeline(groom, options);
+  const FrameRange single{frame, frame, 1};
+  pipeline.base().check_frame_inputs(single);
+  const PreviewCamera camera = feather_camera(pipeline.base().rest_mesh(), pipeline.rest_frame().curves.curves);
+  const FeatherPipeline::Frame result = pipeline.produce(frame);
+  write_png(expand_frame_pattern(out, frame),
+            render_feather_preview(camera, result.mesh, result.feathers, stems ? &result.stems : nullptr,
+                                   feather_style(size)));
+}
+
+bool is_vane_mesh_file(const std::string &path) {
+  if (io::detail::extension_of(path) != ".usda") return false;
+  std::string text;
+  try {
+    text = io::detail::read_file_bytes(path);
+  } catch (const InputError &) {
+    return false;  // the strand reader names the problem
+  }
+  return text.find("def Mesh") != std::string::npos && text.find("def BasisCurves") == std::string::npos;
+}
+
+void print_vane_mesh_info(const std::string &path) {
+  const Mesh mesh = io::read_vane_mesh(path);
+  Eigen::AlignedBox3f box;
+  for (const Eigen::Vector3f &p : mesh.positions) box.extend(p);
+  double area = 0.0;
+  for (size_t f = 0; f < mesh.triangle_count(); ++f) area += mesh.triangle_area(f);
+  std::printf("%s: vane mesh\n", path.c_str());
+  std::printf("  vertices   %zu\n", mesh.vertex_count());
+  std::printf("  triangles  %zu\n", mesh.triangle_count());
+  std::printf("  area       %g\n", area);
+  std::printf("  bounds     (%g, %g, %g) .. (%g, %g, %g)\n", box.min().x(), box.min().y(), box.min().z(), box.max().x(),
+              box.max().y(), box.max().z());
+}
+
+bool is_feather_check(const std::string &path, const std::string &groom_path) {
+  if (!groom_path.empty() && io::read_groom_file(groom_path).feathers.enabled) return true;
+  const std::string ext = io::detail::extension_of(path);
+  if (ext == ".obj") return io::read_obj_file(path).mesh.has_value();
+  if (ext != ".usda" && ext != ".ply") return false;
+  std::string text;
+  try {
+    text = io::detail::read_file_bytes(path);
+  } catch (const InputError &) {
+    return false;  // the strand reader names the problem
+  }
+  if (ext == ".ply") return text.substr(0, std::min<size_t>(text.size(), 4096)).find("property uint feather\n") != std::string::npos;
+  return is_vane_mesh_file(path) || text.find("primvars:feather_id") != std::string::npos;
+}
+
+int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,
+                      std::optional<int> frame, float margin, bool strict, bool json) {
+  Mesh skin;
+  std::string skin_label;
+  if (!groom_path.empty()) {
+    const GroomDesc groom = io::read_groom_file(groom_path);
+    const int at = frame ? *frame : groom_first_frame(groom);
+    skin = posed_emitter(groom, io::read_obj_mesh(groom.emitter_path), at);
+    skin_label = groom.emitter_path + " posed at frame " + std::to_string(at);
+  } else {
+    skin = io::read_obj_mesh(mesh_path);
+    skin_label = mesh_path;
+  }
+  const MeshQuery query(skin);
+  Eigen::AlignedBox3f box;
+  for (const Eigen::Vector3f &p : skin.positions) box.extend(p);
+  const float eps = 1e-5f * box.diagonal().norm();
+  // Vane meshes: every vertex; curves: every point, a curve's first point (on the skin or the
+  // rachis) allowed down to -eps.
+  std::vector<Eigen::Vector3f> points;
+  std::vector<bool> first;
+  const bool vanes = is_vane_mesh_file(path) || io::detail::extension_of(path) == ".obj";
+  size_t curve_count = 0, triangle_count = 0;
+  if (vanes) {
+    const Mesh mesh = io::read_vane_mesh(path);
+    points = mesh.positions;
+    first.assign(points.size(), false);
+    triangle_count = mesh.triangle_count();
+  } else {
+    const StrandSet curves = io::read_strands(path);
+    points = curves.positions;
+    first.assign(points.size(), false);
+    for (size_t c = 0; c < curves.strand_count(); ++c) first[size_t(curves.offsets[c])] = true;
+    curve_count = curves.strand_count();
+  }
+  size_t below = 0;
+  float deepest = 0.0f;
+#pragma omp parallel for schedule(static) reduction(+ : below) reduction(min : deepest)
+  for (int64_t v = 0; v < int64_t(points.size()); ++v) {
+    const float d = query.signed_distance(points[size_t(v)]);
+    if (d < (first[size_t(v)] ? 0.0f : margin) - eps) ++below;
+    deepest = std::min(deepest, d);
+  }
+  const int exit_code = strict && below > 0 ? kExitViolations : 0;
+  if (json) {
+    auto quote = [](const std::string &text) {
+      std::string out = "\"";
+      for (const char c : text) {
+        if (c == '"' || c == '\\') out += '\\';
+        if ((unsigned char)c < 32) {
+          char escaped[8];
+          std::snprintf(escaped, sizeof escaped, "\\u%04x", unsigned((unsigned char)c));
+          out += escaped;
+          continue;
+        }
+        out += c;
+      }
+      return out + "\"";
+    };
+    std::printf("{\"file\": %s, \"kind\": \"%s\", \"mesh\": %s, \"curves\": %zu, \"points\": %zu, ", quote(path).c_str(),
+                vanes ? "vane mesh" : "feather curves", quote(skin_label).c_str(), curve_count, points.size());
+    std::printf("\"inside_skin\": {\"points\": %zu, \"margin\": %.9g, \"deepest\": %.9g}, ", below, double(margin),
+                double(deepest));
+    if (below > 0)
+      std::printf("\"violations\": [\"%zu points below the skin\"], ", below);
+    else
+      std::printf("\"violations\": [], ");
+    std::printf("\"clean\": %s, \"strict\": %s, \"exit_code\": %d}\n", below == 0 ? "true" : "false",
+                strict ? "true" : "false", exit_code);
+    return exit_code;
+  }
+  if (vanes)
+    std::printf("%s: vane mesh, %zu vertices, %zu triangles, against %s\n", path.c_str(), points.size(), triangle_count,
+                skin_label.c_str());
+  else
+    std::printf("%s: feather curves, %zu curves, %zu points, against %s\n", path.c_str(), curve_count, points.size(),
+                skin_label.c_str());
+  std::printf("  points below the skin (margin %g): %zu (deepest %g)\n", double(margin), below, double(deepest));
+  std::printf("  feather against feather: not judged by this check\n");
+  std::printf("  %s\n", below == 0 ? "clean" : "VIOLATIONS");
+  return exit_code;
+}
+
+}  // namespace plume

@@ -1,0 +1,59 @@
+// The `plume` subcommands on feather grooms and feather files: regrow and preview grow the coat
+// every frame (app/feather_pipeline.h); info and check read vane meshes as well as curves.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "groom/groom_desc.h"
+
+namespace plume {
+
+/// What `plume regrow` was asked for (the command line's values; empty or negative: the groom's).
+struct FeatherRegrowArgs {
+  std::string frames;
+  std::string out;     // feather curves (.usda .hair .ply .obj); empty: output.path
+  std::string vanes;   // vane meshes (.usda .obj); empty: output.vanes
+  std::string preview;
+  int preview_every = -1;
+  int preview_size = 0;
+  bool preview_guides = false;
+  int threads = 0;
+  int64_t strands = -1;  // follicles
+  std::string guides_cache;
+};
+
+/// `plume regrow` of a feather groom: for every frame of the range, the curves and/or the vane
+/// meshes, and the previews due. Every output location is checked before the first frame is grown.
+/// Throws InputError (exit 2) for bad input, including a groom with neither a curves nor a vanes
+/// output.
+void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args);
+
+/// `plume preview` of a feather groom at `frame`.
+void run_feather_preview(const GroomDesc &groom, int frame, const std::string &out, int size, bool stems, int threads,
+                         int64_t strands, const std::string &guides_cache);
+
+/// True when `path` holds vane meshes (a `.usda` with a Mesh prim and no BasisCurves), which the
+/// strand readers do not read.
+bool is_vane_mesh_file(const std::string &path);
+
+/// True when `plume check` should judge `path` as feathers: vane meshes (.usda or an OBJ with faces),
+/// feather curves Plume wrote (.usda with feather ids, .ply with a feather property), or any file
+/// checked against a feather groom (`groom_path`, may be empty).
+bool is_feather_check(const std::string &path, const std::string &groom_path);
+
+/// `plume info` of a vane mesh file.
+void print_vane_mesh_info(const std::string &path);
+
+/// `plume check` of feather curves or vane meshes against the emitter at their pose (`mesh_path`, or
+/// the emitter of `groom_path` posed at `frame`, default the groom's first): every point or vertex
+/// below the skin (signed distance below margin - eps, eps = 1e-5 x the emitter's bounding-box
+/// diagonal, as for strands; a curve's first point below -eps). Feather against feather is not
+/// judged here. With `json`, the report is one JSON object: file, kind ("feather curves" or "vane
+/// mesh"), mesh, curves, points, inside_skin {points, margin, deepest}, violations, clean, strict,
+/// exit_code. Returns the exit code (kExitViolations under `strict` when any point is below).
+int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,
+                      std::optional<int> frame, float margin, bool strict, bool json);
+
+}  // namespace plume

@@ -1,0 +1,103 @@
+#include "app/feather_pipeline.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "groom/error.h"
+#include "groom/mesh_query.h"
+#include "io/point_list.h"
+#include "io/vertex_map.h"
+#include "skin/skin_grid.h"
+
+namespace plume {
+
+namespace {
+
+/// The follicles the groom asks for: scattered on its tracts, or snapped from its file.
+feathers::Follicles make_follicles(const GroomDesc &groom, const Mesh &rest_mesh, int64_t count_override) {
+  const FollicleSettings &settings = groom.feathers.follicles;
+  if (settings.source == FollicleSettings::Source::file) {
+    const std::vector<Eigen::Vector3f> points = io::read_points(settings.file);
+    const size_t count = count_override >= 0 ? std::min(points.size(), size_t(count_override)) : points.size();
+    const MeshQuery query(rest_mesh);
+    feathers::Follicles follicles;
+    for (size_t i = 0; i < count; ++i) {
+      follicles.points.push_back(query.closest(points[i]));
+      follicles.ids.push_back(i);  // the point's index in the file: stable as long as the file is
+    }
+    return follicles;
+  }
+  std::vector<float> map;
+  if (!settings.map_path.empty())
+    map = io::read_vertex_map(settings.map_path, rest_mesh.vertex_count(), groom.source + ": feathers.follicles.map");
+  return feathers::scatter_follicles(rest_mesh, settings, map, count_override);
+}
+
+/// Throws InputError before the coat is bound when one frame of `count` feathers would not fit in
+/// memory: per feather its parameters (about 2 kB), per curve point its position, width and two
+/// texture coordinates and the writer's text (about 60 bytes), per vane vertex 40 bytes; the largest
+/// template's barb count stands for every feather.
+void check_memory_for_feathers(const GroomDesc &groom, size_t count, const std::string &what) {
+  const FeatherDetail &d = groom.feathers.detail;
+  double points = 0.0;
+  for (const FeatherTemplate &t : groom.feathers.templates) {
+    const double barbs = 2.0 * double(barb_positions(t).size()) * (1.0 + (t.afterfeather > 0.0f ? 1.0 : 0.0));
+    points = std::max(points, barbs * d.barb_points + 2.0 * (d.rachis_points + 1));
+  }
+  const double vertices = 4.0 * d.vane_rows * (d.vane_columns + 1);
+  const double needed = double(count) * (2048.0 + 60.0 * points + 40.0 * vertices);
+  const double usable = usable_memory_bytes();
+  if (usable <= 0.0 || needed <= usable) return;
+  char figures[160];
+  std::snprintf(figures, sizeof figures, "need about %.1f GB per frame, more than the %.1f GB of memory", needed / 1e9,
+                usable / 1e9);
+  throw InputError(groom.feathers.follicles.loc, what + ": " + std::to_string(count) + " feathers " + figures +
+                                                     " this run may use (fewer follicles, barbs or barb_points)");
+}
+
+}  // namespace
+
+FeatherPipeline::FeatherPipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom) {
+  if (!groom_.feathers.enabled) throw InternalError("FeatherPipeline: the groom has no feathers section");
+  // The base pipeline grows no strands: it poses the emitter and carries, simulates or reads the stems.
+  PipelineOptions base_options = options;
+  base_options.strand_count = 0;
+  base_ = std::make_unique<Pipeline>(groom_, base_options);
+  const Mesh &rest = base_->rest_mesh();
+  feathers::Follicles follicles = make_follicles(groom_, rest, options.strand_count);
+  check_memory_for_feathers(groom_, follicles.size(),
+                            options.strand_count >= 0 ? std::string("--strands") : std::string("feathers.follicles"));
+  coat_ = std::make_unique<feathers::Coat>(rest, base_->guides(), groom_.feathers, std::move(follicles));
+}
+
+FeatherPipeline::~FeatherPipeline() = default;
+
+FeatherPipeline::Frame FeatherPipeline::produce(int frame) {
+  Frame result;
+  result.frame = frame;
+  result.mesh = base_->posed_mesh(frame);
+  result.stems = base_->guides_at(frame, result.mesh);
+  const MeshQuery query(result.mesh);
+  const skin::SkinGrid grid(result.mesh, query);
+  coat_->grow(result.mesh, query, result.stems, result.feathers, &grid);
+  return result;
+}
+
+feathers::CoatFrame FeatherPipeline::rest_frame() const {
+  const Mesh &rest = base_->rest_mesh();
+  const MeshQuery query(rest);
+  feathers::CoatFrame frame;
+  coat_->grow(rest, query, base_->guides().strands, frame);
+  return frame;
+}
+
+io::FeatherWriteOptions FeatherPipeline::write_options() const {
+  io::FeatherWriteOptions options;
+  for (const FeatherTemplate &t : groom_.feathers.templates) options.template_names.push_back(t.name);
+  options.fps = groom_.dynamics.fps;
+  options.obj_uv_along_barbs = groom_.feathers.detail.uv == FeatherDetail::Uv::barb;
+  options.comment = "plume regrow of " + groom_.source;
+  return options;
+}
+
+}  // namespace plume

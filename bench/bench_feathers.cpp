@@ -1,0 +1,110 @@
+// Feathers regrown per frame on the bird of grooms/bird/: 5,000 feathers x 150 barbs (75 per vane)
+// x 8 points, curves and vane meshes, on posed frames of its sequence (the left wing open, the neck
+// bent). Target: <= 0.5 s per frame on 2 cores. Also 300 barbs per feather, the skin pass's share
+// (the same coat without it), the binding, and the peak memory.
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "feathers/coat.h"
+#include "groom/guides.h"
+#include "groom/mesh_query.h"
+#include "io/groom_file.h"
+#include "io/obj_mesh.h"
+#include "io/strand_file.h"
+#include "skin/skin_grid.h"
+
+using namespace plume;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double peak_memory_mb() {
+  struct rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // kB on Linux
+}
+
+/// The bird's feather types with `positions` barbs per vane each (spacing = rachis length / positions).
+FeatherDesc with_barbs(FeatherDesc desc, int positions) {
+  for (FeatherTemplate &t : desc.templates) t.spacing_base = t.spacing_tip = t.rachis_length / float(positions);
+  desc.detail.barb_points = 8;
+  return desc;
+}
+
+struct Timing {
+  double wall = 0.0, cpu = 0.0;
+};
+
+/// Median wall and CPU seconds of `runs` frames grown on `posed`.
+Timing time_frames(const feathers::Coat &coat, const Mesh &posed, const StrandSet &stems, int runs,
+                   feathers::CoatFrame &r_frame) {
+  std::vector<double> wall, cpu;
+  for (int run = 0; run < runs; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::clock_t cpu_start = std::clock();
+    // A frame as `plume regrow` grows it: the skin's queries built for the pose, then the coat.
+    const MeshQuery query(posed);
+    const skin::SkinGrid grid(posed, query);
+    coat.grow(posed, query, stems, r_frame, &grid);
+    cpu.push_back(double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
+    wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return {median(wall), median(cpu)};
+}
+
+}  // namespace
+
+int main() {
+  const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
+  const GroomDesc groom = io::read_groom_file(folder + "bird.groom.yaml");
+  const Mesh rest = io::read_obj_mesh(folder + "bird.obj");
+  const MeshQuery rest_query(rest);
+  const Guides stems = bind_guides(rest_query, io::read_strands(folder + "stems.obj"), "stems.obj");
+  const int hardware = int(std::thread::hardware_concurrency());
+  std::printf("Feathers on the bird (grooms/bird): 5,000 feathers, curves (8 points per barb) and vane meshes\n");
+  std::printf("hardware threads: %d; medians of 5 frames; posed frame 12 (wing open, neck bending)\n\n", hardware);
+  const Mesh posed = io::read_obj_pose(folder + "anim/bird.0012.obj", rest);
+  const StrandSet posed_stems = carry_guides(rest, posed, stems);
+
+  std::printf("%-26s %8s %10s %10s %12s %12s %10s\n", "coat", "threads", "bind s", "frame s", "CPU s", "points",
+              "target");
+  for (const int positions : {75, 150}) {
+    for (const bool lift : {true, false}) {
+      FeatherDesc desc = with_barbs(groom.feathers, positions);
+      desc.lift = lift;
+      FollicleSettings follicles = desc.follicles;
+      follicles.count = 5000;
+      const auto bind_start = std::chrono::steady_clock::now();
+      const feathers::Coat coat(rest, stems, desc, feathers::scatter_follicles(rest, follicles, {}));
+      const double bind = std::chrono::duration<double>(std::chrono::steady_clock::now() - bind_start).count();
+      for (const int threads : {1, 2}) {
+        if (threads > hardware) continue;
+        omp_set_num_threads(threads);
+        feathers::CoatFrame frame;
+        const Timing t = time_frames(coat, posed, posed_stems, 5, frame);
+        char label[64];
+        std::snprintf(label, sizeof label, "%d barbs/feather%s", 2 * positions, lift ? "" : ", no skin pass");
+        const bool target = positions == 75 && lift && threads == 2;
+        std::printf("%-26s %8d %10.2f %10.3f %12.3f %12zu %10s\n", label, threads, bind, t.wall, t.cpu,
+                    frame.curves.curves.point_count(), target ? (t.wall <= 0.5 ? "met" : "NOT met") : "");
+        if (positions == 75 && lift && threads == 2)
+          std::printf("%-26s %8s %10s %10s %12s %12zu vane vertices, %zu triangles\n", "", "", "", "", "",
+                      frame.vanes.positions.size(), frame.vanes.triangles.size());
+      }
+    }
+  }
+  std::printf("\npeak memory (resident set): %.0f MB\n", peak_memory_mb());
+  return 0;
+}

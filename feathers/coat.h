@@ -1,0 +1,146 @@
+// A coat of feathers on a skin that moves (seed 001 sec. 4.4, carried to any mesh; seed 000 sec.
+// 3.2.1): follicles with stable ids, each bound to its triangle by barycentric coordinates and a
+// tangent frame from the UVs; key feathers blended over the surface; shape and direction from guide
+// feathers' stems, blended per follicle as fur blends guides; every feather built each frame.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "feathers/build.h"
+#include "feathers/feather.h"
+#include "groom/feather_desc.h"
+#include "groom/feather_frame.h"
+#include "groom/guides.h"
+#include "groom/mesh.h"
+#include "groom/mesh_query.h"
+#include "groom/strand_set.h"
+
+namespace plume::skin {
+class SkinGrid;  // skin/skin_grid.h
+}
+
+namespace plume::feathers {
+
+/// Where feathers grow: surface points of the rest mesh, each with a stable id.
+struct Follicles {
+  std::vector<SurfacePoint> points;
+  std::vector<uint64_t> ids;
+  size_t size() const { return points.size(); }
+};
+
+/// Follicles scattered as `settings` says (scatter only; a file's follicles come from the caller):
+/// area-weighted over the tracts `settings.groups` (all faces when empty), `count` of them (or
+/// density x area; `count_override` >= 0 replaces either), ids (face << 24) | j as for hair roots,
+/// so a larger count keeps every follicle. `vertex_map` (empty, or one value in [0, 1] per vertex)
+/// thins them: a follicle stays where the map, interpolated at it, exceeds a number hashed from its
+/// id, so thinning too keeps every follicle that a smaller count had. Throws InputError naming the
+/// follicles' settings for an unknown group or a tract without area.
+Follicles scatter_follicles(const Mesh &rest_mesh, const FollicleSettings &settings,
+                            const std::vector<float> &vertex_map, int64_t count_override = -1);
+
+/// The key feathers' weights over the surface (sec. 4.4, carried from a grid to any mesh): key
+/// feather k has weight exp(-(d_k / r_k)^2), normalised to sum 1, d_k the distance along the surface
+/// from its tract (0 inside it) or its point: shortest paths along the rest mesh's edges (welded at
+/// UV seams) to the vertices, interpolated over each triangle by barycentric weights (and, for a
+/// point, never more than the straight distance to it). Every d_k is continuous over the surface,
+/// so the weights are too.
+class KeyFeatherField {
+ public:
+  /// Throws InputError at a key feather's loc for a face group the mesh does not have.
+  KeyFeatherField(const Mesh &rest_mesh, const FeatherDesc &desc);
+  size_t key_count() const { return radii_.size(); }
+  /// The weights of every key feather at `point` (r_weights.size() == key_count()), summing to 1.
+  void weights(const SurfacePoint &point, std::span<float> r_weights) const;
+  /// The surface distance d_k from key feather k to `point` (scene units).
+  double distance(size_t k, const SurfacePoint &point) const;
+
+ private:
+  const Mesh &mesh_;
+  std::vector<uint32_t> welded_;                // per vertex: its welded representative
+  std::vector<std::vector<double>> distances_;  // per key feather, per welded vertex
+  std::vector<bool> at_point_;
+  std::vector<Eigen::Vector3f> points_;         // snapped points of point key feathers
+  std::vector<double> radii_;
+};
+
+/// One frame of a coat, emitter object space: per feather (in coat order) its curves and its vane
+/// meshes (feathers/build.h gives the order within a feather).
+struct CoatFrame {
+  FeatherCurves curves;
+  VaneMesh vanes;
+  /// Per feather: the skin frame at its follicle this frame (origin on the skin), how far the skin
+  /// pass turned it up about its root (radians, >= 0), and its size (1, or less where no turn cleared
+  /// the skin and the skin pass shrank it toward its root).
+  std::vector<SurfaceFrame> root_frames;
+  std::vector<float> lifts;
+  std::vector<float> scales;
+};
+
+/// A coat bound to its rest skin and guide stems. Bind once; grow() every frame (const, parallel,
+/// the same bytes for any thread count: every feather is computed alone into its own place).
+class Coat {
+ public:
+  /// Binds every follicle: its key-feather weights and blended template (with its seeded
+  /// variation), its stems' weights and rest rotations, and its base frame in its skin frame.
+  /// `rest_mesh` has normals; `stems` are the guide feathers bound to it (each at least 2 points).
+  /// Throws InputError for an unknown face group, no stems, or a feather that cannot be built.
+  Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, Follicles follicles);
+
+  size_t size() const { return ids_.size(); }
+  const std::vector<uint64_t> &ids() const { return ids_; }
+  const std::vector<SurfacePoint> &follicles() const { return points_; }
+  const std::vector<FeatherShape> &shapes() const { return shapes_; }
+  /// Per feather: the index of its heaviest key feather's template.
+  const std::vector<int32_t> &templates() const { return templates_; }
+  /// Per feather: the key-feather weights it was blended with (key_count() per feather).
+  std::span<const float> key_weights(size_t feather) const {
+    return {key_weights_.data() + feather * key_count_, key_count_};
+  }
+  const FeatherDetail &detail() const { return detail_; }
+  /// Totals of one frame at the coat's detail.
+  const FeatherCounts &counts() const { return total_; }
+
+  /// One frame: `posed` (the emitter at this frame, normals computed, the rest mesh's topology),
+  /// `query` on it, `stems` the guide stems at this frame (same count and point counts as at binding).
+  /// `skin_grid` (on posed and query) is used by the skin pass when the coat lifts feathers; it may be
+  /// null, then a grid is built. Throws InputError when the stems do not match the binding.
+  void grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
+            const skin::SkinGrid *skin_grid = nullptr) const;
+
+ private:
+  struct Stem {
+    int32_t guide = -1;
+    float weight = 0.0f;
+    Eigen::Quaternionf rest_rotation;  // Q_follicle(rest)^T M Q_guide(rest)
+  };
+  void bind_stems(const Mesh &rest_mesh, const Guides &stems);
+
+  FeatherDetail detail_;
+  bool lift_ = true;
+  float clearance_ = 0.02f;
+  std::vector<SurfacePoint> points_;
+  std::vector<uint64_t> ids_;
+  std::vector<FeatherShape> shapes_;
+  std::vector<int32_t> templates_;
+  size_t key_count_ = 0;
+  std::vector<float> key_weights_;
+  int k_ = 0;
+  std::vector<Stem> stems_;  // k_ per feather
+  std::vector<SurfacePoint> stem_roots_;
+  std::vector<int64_t> stem_offsets_;  // the stems' point offsets at binding
+  /// Per feather, its base frame in its follicle's rest skin frame (columns side, dorsal, shaft), with
+  /// the seeded direction and lift variation applied.
+  std::vector<Eigen::Quaternionf> base_frames_;
+  float falloff_ = 2.0f;
+  // Output layout, from the shapes and the detail: per feather its first curve, point, vane vertex
+  // and vane triangle (size() + 1 entries each), and the curves' offsets.
+  std::vector<int64_t> first_curve_, first_point_, first_vertex_, first_triangle_;
+  std::vector<int64_t> curve_offsets_;
+  FeatherCounts total_;
+};
+
+}  // namespace plume::feathers

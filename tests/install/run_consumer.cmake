@@ -1,0 +1,31 @@
+# CTest script: installs this build into a scratch prefix, configures and builds the consumer
+# project against it with find_package(Plume), regrows a frame of grooms/sintel through the
+# library, and checks that the installed `plume` reads the file it wrote.
+#   cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DSCRATCH=... -P run_consumer.cmake
+file(REMOVE_RECURSE ${SCRATCH})
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "failed (${status}): ${ARGN}\n${out}\n${err}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${SCRATCH}/prefix)
+foreach(file bin/plume lib/cmake/Plume/PlumeConfig.cmake include/plume/app/pipeline.h include/plume/groom/mesh.h)
+  if(NOT EXISTS ${SCRATCH}/prefix/${file})
+    message(FATAL_ERROR "the install has no ${file}")
+  endif()
+endforeach()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/install/consumer -B ${SCRATCH}/build
+    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${SCRATCH}/prefix)
+run(${CMAKE_COMMAND} --build ${SCRATCH}/build -j2)
+run(${SCRATCH}/build/regrow_one_frame ${SOURCE_DIR}/grooms/sintel/sintel.groom.yaml 500 3 ${SCRATCH}/frame.usda)
+if(NOT last_output MATCHES "^500 strands, ")
+  message(FATAL_ERROR "the consumer said: ${last_output}")
+endif()
+run(${SCRATCH}/prefix/bin/plume info ${SCRATCH}/frame.usda)
+if(NOT last_output MATCHES "strands +500")
+  message(FATAL_ERROR "plume info said: ${last_output}")
+endif()
+file(REMOVE_RECURSE ${SCRATCH})
+message(STATUS "installed Plume: a consumer regrew 500 strands through find_package(Plume)")

@@ -329,8 +329,8 @@ struct StrandScratch {
 /// Grows one streamline strand: steps of the Bogacki-Shampine 3(2) pair through the field bent by
 /// the skin band, from `root` until the fine polyline is longer than `length`, then cut and resampled.
 /// The step adapts so that each step's error estimate (the distance between the third- and
-/// second-order ends) stays below `tolerance`; it is at most `step`, and near the skin at most the
-/// room the distance bound leaves (at least the margin).
+/// second-order ends) stays below `tolerance`, or less near a guide (tolerance_per_distance); it is at
+/// most `step`, and near the skin at most the room the distance bound leaves (at least four margins).
 void grow_streamline(const GuideField &field, PartingAttenuation *partings, const Eigen::Vector3f &root,
                      const Eigen::Vector3f &root_normal, float length, float step, float tolerance, float margin,
                      SkinBand &band, StrandScratch &scratch, GrowStats &stats, int n, Eigen::Vector3f *r_points,
@@ -339,10 +339,12 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   fine.clear();
   fine.add(root, band.lower_bound(root));
   Eigen::Vector3f x = root, last = root_normal;
+  float nearest = 0.0f;  // the nearest guide's distance at the last point evaluated
   auto velocity = [&](const Eigen::Vector3f &p) {
     ++stats.evaluations;
     if (partings) partings->foot = band.foot(p);
     const GuideField::Sample sample = field.evaluate(p, scratch.cache, partings);
+    nearest = sample.nearest;
     float lower = 0.0f;
     return unit_or(band.bend(p, sample.direction, lower), last);
   };
@@ -354,9 +356,14 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   const int64_t max_steps = int64_t(std::ceil(grown / double(std::min(step, 0.5f * margin)))) * 8 + 64;
   float h = std::min(step, 0.5f * margin);
   Eigen::Vector3f k1 = velocity(x);
+  float nearest_at_x = nearest;
   for (int64_t s = 0; s < max_steps && arc < grown; ++s) {
+    // The error allowed: `tolerance` far from the guides, shrinking in proportion to the nearest
+    // guide's distance down to a hundredth of it, where the field turns fastest (its Lipschitz
+    // constant grows as 1 / distance) and a strand near a guide must stay with it.
+    const float allowed = std::clamp(nearest_at_x * tolerance_per_distance, 0.01f * tolerance, tolerance);
     const float bound = band.lower_bound(x);
-    h = std::min({h, step, std::max(margin, bound)});
+    h = std::min({h, step, std::max(4.0f * margin, bound)});
     Eigen::Vector3f next, k4;
     float lower = 0.0f, error = 0.0f;
     for (;;) {
@@ -370,9 +377,9 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
       SurfacePoint closest;
       lower = band.prove(next, 0.5f * margin, queried, closest);
       const bool inside = lower < 0.0f;
-      if ((error <= tolerance && !inside) || h <= shortest) break;
+      if ((error <= allowed && !inside) || h <= shortest) break;
       ++(inside ? stats.halved_steps : stats.rejected_steps);
-      h = inside ? 0.5f * h : std::max(0.25f * h, 0.9f * h * std::cbrt(tolerance / error));
+      h = inside ? 0.5f * h : std::max(0.25f * h, 0.9f * h * std::cbrt(allowed / error));
     }
     ++stats.steps;
     const float moved = (next - x).norm();
@@ -382,8 +389,9 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     arc += double(moved);
     x = next;
     k1 = k4;  // first same as last
+    nearest_at_x = nearest;
     // The next step from this one's error (third order: the cube root), growing at most fourfold.
-    h = std::min(step, error > 0.0f ? h * std::min(4.0f, 0.9f * std::cbrt(tolerance / error)) : 4.0f * h);
+    h = std::min(step, error > 0.0f ? h * std::min(4.0f, 0.9f * std::cbrt(allowed / error)) : 4.0f * h);
   }
   if (arc < double(length)) ++stats.short_strands;
   // The cut: the curve's length c at which the n-point polyline is `length` long (it grows with c,

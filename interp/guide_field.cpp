@@ -9,11 +9,10 @@ namespace {
 /// The most cells the search grid may have: a larger grid takes larger cells.
 constexpr size_t max_cells = size_t(1) << 21;
 
-/// Closest point of piece `p` to x: its distance and the piece's unit tangent there. The parameter
-/// starts at the projection on the chord and takes three Newton steps on (c(t) - x) . c'(t) (a piece
-/// turns by a few degrees: the distance has one minimum on it), clamped to [0, 1]; the piece's end
-/// points are looked at too. Deterministic and continuous in x wherever the closest point is unique.
-void closest_on_piece(const GuidePiece &p, const Eigen::Vector3f &x, float &r_distance, Eigen::Vector3f &r_tangent) {
+/// Distance from x to piece `p`. The parameter starts at the projection on the chord and takes three
+/// Newton steps on (c(t) - x) . c'(t) (a piece turns by a few degrees: the distance has one minimum
+/// on it), clamped to [0, 1]; the piece's end points are looked at too.
+float distance_to_piece(const GuidePiece &p, const Eigen::Vector3f &x) {
   const Eigen::Vector3f chord = p.b + p.c + p.d;  // c(1) - c(0)
   const float chord_sq = chord.squaredNorm();
   float t = chord_sq > 0.0f ? std::clamp((x - p.a).dot(chord) / chord_sq, 0.0f, 1.0f) : 0.0f;
@@ -27,17 +26,18 @@ void closest_on_piece(const GuidePiece &p, const Eigen::Vector3f &x, float &r_di
     t = std::clamp(t - slope / curvature, 0.0f, 1.0f);
   }
   float best = (p.a + t * (p.b + t * (p.c + t * p.d)) - x).squaredNorm();
-  for (const float end : {0.0f, 1.0f}) {
-    const float d = (p.a + end * (p.b + end * (p.c + end * p.d)) - x).squaredNorm();
-    if (d < best) {
-      best = d;
-      t = end;
-    }
-  }
-  r_distance = std::sqrt(best);
+  best = std::min({best, (p.a - x).squaredNorm(), (p.a + chord - x).squaredNorm()});
+  return std::sqrt(best);
+}
+
+/// The piece's unit tangent at the parameter of x's projection on its chord, t0 = clamp((x - a) .
+/// axis / chord, 0, 1): continuous in x, equal to the guide's tangent at the piece's ends, and within
+/// about theta^3 / 24 of the tangent at the closest point for a piece turning by theta.
+Eigen::Vector3f chord_tangent(const GuidePiece &p, const Eigen::Vector3f &x) {
+  const float t = p.chord > 0.0f ? std::clamp((x - p.a).dot(p.axis) / p.chord, 0.0f, 1.0f) : 0.0f;
   const Eigen::Vector3f first = p.b + t * (2.0f * p.c + 3.0f * t * p.d);
   const float norm = first.norm();
-  r_tangent = norm > 0.0f ? Eigen::Vector3f(first / norm) : chord.normalized();
+  return norm > 0.0f ? Eigen::Vector3f(first / norm) : p.axis;
 }
 
 /// A lower bound of the distance from x to the piece: to its chord, less the sag.
@@ -101,6 +101,7 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
       }
       piece.sag = piece.sag * (1.0f + 1e-5f) + 1e-6f * length;  // rounding
       piece.guide = g;
+      max_sag_ = std::max(max_sag_, piece.sag);
       pieces_.push_back(piece);
     }
     guide_end_[size_t(g)] = int32_t(pieces_.size());
@@ -207,20 +208,28 @@ void GuideField::gather(const Eigen::Vector3f &x, Cache &cache) const {
   cache.guides.clear();
   for (const int32_t g : found) cache.guides.push_back({g, 0, 0, 0.0f, 0.0f});
   cache.pieces.clear();
+  cache.piece_lower.clear();
   std::vector<Cache::Guide> kept;
+  std::vector<float> &lowers = cache.effective;  // scratch
   for (const Cache::Guide &entry : cache.guides) {
     const int32_t g = entry.guide;
+    const int32_t begin_piece = guide_begin_[size_t(g)], end_piece = guide_end_[size_t(g)];
     float guide_upper = INFINITY, guide_lower = INFINITY;
-    for (int32_t i = guide_begin_[size_t(g)]; i < guide_end_[size_t(g)]; ++i) {
+    lowers.resize(size_t(end_piece - begin_piece));
+    for (int32_t i = begin_piece; i < end_piece; ++i) {
       const GuidePiece &p = pieces_[size_t(i)];
       const float lower = piece_lower(p, x);
+      lowers[size_t(i - begin_piece)] = lower;
       guide_lower = std::min(guide_lower, lower);
       guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
     }
-    const float piece_radius = shape_.coil_reach * (guide_upper + valid) + valid;
+    const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
     const int32_t begin = int32_t(cache.pieces.size());
-    for (int32_t i = guide_begin_[size_t(g)]; i < guide_end_[size_t(g)]; ++i)
-      if (piece_lower(pieces_[size_t(i)], x) <= piece_radius) cache.pieces.push_back(i);
+    for (int32_t i = begin_piece; i < end_piece; ++i)
+      if (lowers[size_t(i - begin_piece)] <= piece_radius) {
+        cache.pieces.push_back(i);
+        cache.piece_lower.push_back(lowers[size_t(i - begin_piece)]);
+      }
     kept.push_back({g, begin, int32_t(cache.pieces.size()), guide_lower, guide_upper});
   }
   cache.guides = std::move(kept);
@@ -236,8 +245,8 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
 
   // Guide bounds at x from the cache's (1-Lipschitz): the nearest guide is nearer than the smallest
   // upper bound, and a guide every point of which is farther than reach times that does not weigh.
-  // Within a weighing guide, the piece of least lower bound (capsule about its chord) is computed
-  // first, then every piece that may lie within coil_reach times the guide's distance.
+  // Within a weighing guide, every cached piece's chord distance and lower bound (capsule about its
+  // chord) are computed, and the exact distance only to the pieces that can be the nearest.
   std::vector<Cache::Near> &near = cache.near;
   near.clear();
   const float moved = (x - cache.centre).norm();
@@ -248,19 +257,25 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     if (g.lower - moved >= guide_limit || g.begin == g.end) continue;
     const size_t first = near.size();
     size_t best = first;
+    // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
+    // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
+    const float skip = shape_.coil_reach * (g.upper + moved + max_sag_) + moved + 1e-6f * cell_;
     for (int32_t e = g.begin; e < g.end; ++e) {
-      near.push_back({g.guide, piece_lower(pieces_[size_t(cache.pieces[size_t(e)])], x), INFINITY,
-                      Eigen::Vector3f::Zero()});
+      if (cache.piece_lower[size_t(e)] > skip) continue;
+      const int32_t piece = cache.pieces[size_t(e)];
+      const GuidePiece &p = pieces_[size_t(piece)];
+      const float lower = piece_lower(p, x);
+      near.push_back({g.guide, piece, lower, INFINITY, lower + p.sag});
       if (near.back().lower < near[best].lower) best = near.size() - 1;
     }
-    Cache::Near &nearest_piece = near[best];
-    closest_on_piece(pieces_[size_t(cache.pieces[size_t(g.begin) + (best - first)])], x, nearest_piece.distance,
-                     nearest_piece.tangent);
-    float distance = nearest_piece.distance;
+    // The guide's distance: the exact distance to the piece of least lower bound, then to every
+    // piece whose bound lies below the best found.
+    float distance = distance_to_piece(pieces_[size_t(near[best].piece)], x);
+    near[best].distance = distance;
     for (size_t j = first; j < near.size(); ++j) {
       Cache::Near &n = near[j];
-      if (j == best || !(n.lower < shape_.coil_reach * distance)) continue;
-      closest_on_piece(pieces_[size_t(cache.pieces[size_t(g.begin) + (j - first)])], x, n.distance, n.tangent);
+      if (j == best || !(n.lower < distance)) continue;
+      n.distance = distance_to_piece(pieces_[size_t(n.piece)], x);
       distance = std::min(distance, n.distance);
     }
   }
@@ -301,12 +316,16 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
                                   : (counted < INFINITY ? fade(counted / nearest_effective - (shape_.reach - 1.0f)) / counted
                                                         : 0.0f);
     if (weight > 0.0f) {
-      // The guide's tangent: its pieces' tangents, faded as they lie farther than the guide's distance.
+      // The guide's tangent: its pieces' chord tangents, each faded as its chord lies farther than
+      // the guide's nearest chord (e_j against e_min, continuous in x; on the guide the piece under
+      // x has the nearest chord).
+      float chord_min = INFINITY;
+      for (size_t j = begin; j < end; ++j) chord_min = std::min(chord_min, near[j].chord_distance);
+      const float span = (shape_.coil_reach - 1.0f) * chord_min + hit;
       Eigen::Vector3f tangent = Eigen::Vector3f::Zero();
       for (size_t j = begin; j < end; ++j) {
-        const float share = on_guide ? (near[j].distance <= hit ? 1.0f : 0.0f)
-                                     : fade((near[j].distance / distance - 1.0f) / (shape_.coil_reach - 1.0f));
-        tangent += share * near[j].tangent;
+        const float share = fade((near[j].chord_distance - chord_min) / span);
+        if (share > 0.0f) tangent += share * chord_tangent(pieces_[size_t(near[j].piece)], x);
       }
       const float norm = tangent.norm();
       if (norm > 0.0f) {

@@ -21,8 +21,9 @@ struct FieldShape {
   /// the distance of the nearest guide: influence stays local (a far guide never bends a strand) and
   /// a guide's entry is gradual.
   float reach = 3.0f;
-  /// Along one guide, the tangent at the closest point of each piece counts with a weight that fades
-  /// from 1 when the piece is as near as the guide to 0 when it is `coil_reach` times farther: two
+  /// Along one guide, each piece's tangent (at x's projection on its chord) counts with a weight that
+  /// fades from 1 when the piece's chord is as near as the guide's nearest chord to 0 when it is
+  /// `coil_reach` times farther: two
   /// coils of a curl at nearly the same distance share the guide's tangent, so it never jumps from
   /// one coil to the other.
   float coil_reach = 1.25f;
@@ -66,6 +67,7 @@ class GuideField {
     Eigen::Vector3f centre = Eigen::Vector3f::Zero();
     float valid = -1.0f;          // nothing cached yet
     std::vector<int32_t> pieces;  // ascending
+    std::vector<float> piece_lower;  // per cached piece, a lower bound of its distance at `centre`
     /// The cached guides, ascending, each with its pieces' range in `pieces` and, at `centre`, lower
     /// and upper bounds of its distance.
     struct Guide {
@@ -76,9 +78,10 @@ class GuideField {
     /// Scratch of evaluate(): the listed pieces' distance bounds, and the closest points computed.
     struct Near {
       int32_t guide;
-      float lower;     // a lower bound of the piece's distance (its ball's)
-      float distance;  // the exact distance, or infinity when not computed
-      Eigen::Vector3f tangent;
+      int32_t piece;
+      float lower;           // a lower bound of the piece's distance (its capsule's)
+      float distance;        // the exact distance, or infinity when not computed
+      float chord_distance;  // the distance to the piece's chord
     };
     std::vector<Near> near;
     std::vector<int32_t> order;
@@ -93,7 +96,7 @@ class GuideField {
     float nearest = INFINITY;
   };
   /// The field at x: w_g = fade(d_g / d_min - (reach - 1)) / d_g, with d_g the distance from x to
-  /// guide g's curve and d_min the nearest guide's; T_g the tangent of guide g at its closest points
+  /// guide g's curve and d_min the nearest guide's; T_g the tangent of guide g at its nearest pieces
   /// (see FieldShape::coil_reach); on a guide (d_g within a millionth of a cell), that guide's tangent.
   /// Thread-safe (the cache is the caller's).
   /// `attenuation` (may be null): factors for the guides at x; a guide at distance d then counts
@@ -113,6 +116,7 @@ class GuideField {
   FieldShape shape_;
   std::vector<GuidePiece> pieces_;  // grouped by guide, in guide order, each guide's in order
   float cell_ = 1.0f;
+  float max_sag_ = 0.0f;  // the largest piece's sag
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
   std::vector<int32_t> cell_offsets_;  // CSR over cells: pieces whose ball's box meets the cell

@@ -76,7 +76,10 @@ inline constexpr float default_margin_fraction = 0.1f;
 /// Streamline growth's longest step, as a fraction of the length unit: one guide segment.
 inline constexpr float step_fraction = 1.0f;
 /// Streamline growth's error per step, as a fraction of the length unit.
-inline constexpr float tolerance_fraction = 1e-4f;
+inline constexpr float tolerance_fraction = 1e-2f;
+/// Nearer the guides the error allowed per step is at most this fraction of the nearest guide's
+/// distance (and at least a hundredth of the tolerance).
+inline constexpr float tolerance_per_distance = 1e-3f;
 
 /// Binds every root to its k nearest guide roots (Euclidean distance on the rest pose, within
 /// settings.radius when > 0; a root with no guide in the radius takes its nearest guide), restricted
@@ -118,7 +121,7 @@ struct GrowOptions {
 /// Grows every root for one frame with binding.settings.method:
 /// - streamline: each strand is the integral curve, from its root, of the field of its zone's
 ///   guides at this frame (interp/guide_field.h), bent away from the skin within a band of twice the
-///   margin, integrated with RK4 steps of binding.step and cut at its length, then resampled by arc
+///   margin, integrated with error-controlled steps (at most binding.step) and cut at its length, then resampled by arc
 ///   length;
 /// - fur: each guide carried to the root by its rotation, segment lengths and directions blended;
 /// - linear: root-relative offsets of the guides blended, no rotation (a baseline: it crosses).

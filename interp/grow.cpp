@@ -171,10 +171,12 @@ class SkinBand {
     r_queried = true;
     return query_at(x, r_closest);
   }
-  /// The closest point of the skin to x (queried from the last closest triangle).
+  /// The closest point of the skin to x (queried from the last closest triangle). The band's known
+  /// bound is left as it was, so asking for feet never changes a strand.
   SurfacePoint foot(const Eigen::Vector3f &x) {
+    ++stats_.skin_queries;
     SurfacePoint closest;
-    query_at(x, closest);
+    grid_.signed_distance(x, hint_, closest);
     return closest;
   }
   /// v bent by the band at x; r_lower gets a lower bound of the signed distance at x.

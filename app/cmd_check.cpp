@@ -34,6 +34,7 @@ struct CheckArgs {
   std::string groom;
   std::string roots;
   std::string guides_cache;
+  std::string group;
   std::optional<int> frame;
   float tolerance = 0.0f;
   float transversal_degrees = check::kTransversalDegrees;
@@ -47,6 +48,7 @@ struct CheckArgs {
 
 /// What was checked, for the report's header.
 struct CheckedScene {
+  std::string group;            // the hair group checked, empty for a groom without groups
   std::string mesh;             // the mesh's file, or "GROOM's emitter at frame N"
   std::optional<int> frame;     // with --groom
   bool has_effects = false;     // the groom has an effects stack
@@ -81,8 +83,9 @@ void print_crossings(const char *title, const check::CrossingCount &count, float
 }
 
 void print_text(const CheckArgs &args, const CheckedScene &scene, const check::CheckReport &report, int exit_code) {
-  std::printf("%s: %zu strands, %zu points, median segment %g\n", args.strands.c_str(), report.strand_count,
-              report.point_count, report.median_segment_length);
+  const std::string group = scene.group.empty() ? "" : " (hair group " + scene.group + ")";
+  std::printf("%s%s: %zu strands, %zu points, median segment %g\n", args.strands.c_str(), group.c_str(),
+              report.strand_count, report.point_count, report.median_segment_length);
   std::printf("  skin: %s\n", scene.mesh.c_str());
   std::printf("  points inside the skin (margin %g): %zu%s%s\n", double(report.skin_margin), report.points_inside_skin,
               report.inside_examples.empty() ? "" : "  strands: ", id_list(report.inside_examples).c_str());
@@ -243,6 +246,7 @@ void print_json(const CheckArgs &args, const CheckedScene &scene, const check::C
   Json json;
   json.open(nullptr, '{');
   json.string("strands", args.strands);
+  if (!scene.group.empty()) json.string("group", scene.group);
   json.string("skin", scene.mesh);
   if (scene.frame)
     json.number("frame", double(*scene.frame));
@@ -388,6 +392,9 @@ GroomView view_groom(const GroomDesc &groom, const StrandSet &strands, const Mes
   return view;
 }
 
+int check_strand_set(const CheckArgs &args, const std::optional<GroomDesc> &groom, const StrandSet &strands,
+                     const std::string &group_name);
+
 int run_check(const CheckArgs &args) {
   if (args.mesh.empty() && args.groom.empty())
     throw InputError("--mesh: expected the emitter mesh (.obj) at the strands' pose, or --groom to pose the groom's emitter");
@@ -401,6 +408,50 @@ int run_check(const CheckArgs &args) {
   if (is_feather_check(args.strands, args.groom))
     return run_feather_check(args.strands, args.mesh, args.groom, args.frame, args.margin, args.strict, args.json);
 
+  std::optional<GroomDesc> groom;
+  if (!args.groom.empty()) groom = io::read_groom_file(args.groom);
+  if (!args.group.empty() && !groom) throw InputError("--group: needs --groom, whose hair group it names");
+  if (!groom || groom->groups.empty()) {
+    if (!args.group.empty())
+      throw InputError("--group: " + args.groom + " has no hair groups (no groups list): leave --group out");
+    return check_strand_set(args, groom, io::read_strands(args.strands), "");
+  }
+  // A groom of hair groups: each group's strands (a .usda's BasisCurves prim of its name) are
+  // checked against that group, --group naming one or every group in turn.
+  std::string names;
+  for (const GroomDesc &group : groom->groups) names += (names.empty() ? "" : ", ") + group.group_name;
+  const std::vector<std::pair<std::string, StrandSet>> sets = io::read_strand_groups(args.strands);
+  const bool named = !(sets.size() == 1 && sets[0].first.empty());
+  std::vector<size_t> chosen;
+  for (size_t g = 0; g < groom->groups.size(); ++g)
+    if (args.group.empty() || groom->groups[g].group_name == args.group) chosen.push_back(g);
+  if (chosen.empty())
+    throw InputError("--group: no hair group \"" + args.group + "\" in " + args.groom + " (groups: " + names + ")");
+  if (!named && args.group.empty())
+    throw InputError("--group: " + args.groom + " has hair groups (" + names + "); name the one " + args.strands +
+                     " holds (a .usda with one BasisCurves prim per group is checked group by group)");
+  int exit_code = 0;
+  if (args.json && chosen.size() > 1) std::printf("[\n");
+  for (size_t c = 0; c < chosen.size(); ++c) {
+    const GroomDesc &group = groom->groups[chosen[c]];
+    const StrandSet *strands = nullptr;
+    for (const auto &[name, set] : sets)
+      if (!named || name == group.group_name) strands = &set;
+    if (!strands)
+      throw InputError(args.strands + ": no BasisCurves prim \"" + group.group_name + "\" (the hair group of " +
+                       args.groom + ")");
+    if (args.json && c > 0) std::printf(",\n");
+    exit_code = std::max(exit_code, check_strand_set(args, group, *strands, group.group_name));
+  }
+  if (args.json && chosen.size() > 1) std::printf("]\n");
+  return exit_code;
+}
+
+/// Checks `strands` (those of args.strands, or of its hair group `group_name`) against the skin and,
+/// with `groom` (the groom, or one hair group of it), against what the groom grows; prints the
+/// report and returns the exit code.
+int check_strand_set(const CheckArgs &args, const std::optional<GroomDesc> &groom, const StrandSet &strands,
+                     const std::string &group_name) {
   check::CheckOptions options;
   options.crossing_tolerance = args.tolerance;
   options.transversal_degrees = args.transversal_degrees;
@@ -408,11 +459,8 @@ int run_check(const CheckArgs &args) {
   options.skin_margin = args.margin;
   options.guide_deviation_limit = args.guide_limit_percent / 100.0;
 
-  std::optional<GroomDesc> groom;
-  if (!args.groom.empty()) groom = io::read_groom_file(args.groom);
-  const StrandSet strands = io::read_strands(args.strands);
-
   CheckedScene scene;
+  scene.group = group_name;
   Mesh mesh;
   if (groom) {
     scene.frame = args.frame ? *args.frame : groom_first_frame(*groom);
@@ -512,6 +560,9 @@ void add_check_command(CLI::App &app, int &r_exit_code) {
                   "With --groom and dynamics: read the frame's guides from this cache instead of simulating");
   cmd->add_option("--roots", args->roots,
                   "Roots that must each have a strand (.txt x y z lines, or a strand file's first points; rest pose)");
+  cmd->add_option("--group", args->group,
+                  "With --groom of hair groups: the group the strands are (default: every group, each the "
+                  ".usda's BasisCurves prim of its name)");
   cmd->add_option("--tolerance", args->tolerance,
                   "Two strands cross when segments come closer than this (scene units; default 1e-3 x the median "
                   "segment length)")
@@ -528,7 +579,8 @@ void add_check_command(CLI::App &app, int &r_exit_code) {
   cmd->add_flag("--strict", args->strict, "Exit with code 3 when a promise is broken");
   cmd->add_flag("--strict-touching", args->strict_touching,
                 "As --strict, and near-parallel touching pairs count as violations too");
-  cmd->add_flag("--json", args->json, "Print the report as one JSON object");
+  cmd->add_flag("--json", args->json,
+                "Print the report as one JSON object (hair groups checked in turn: a list of them, one per group)");
   cmd->callback([args, &r_exit_code] { r_exit_code = run_check(*args); });
 }
 

@@ -6,8 +6,10 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/groom_outputs.h"
 #include "app/feather_commands.h"
 #include "app/pipeline.h"
+#include "app/run_outputs.h"
 #include "app/strand_colors.h"
 #include "groom/error.h"
 #include "io/groom_file.h"
@@ -53,12 +55,22 @@ void run_preview(const PreviewArgs &args) {
                      std::to_string(max_preview_size) + " pixels (give a smaller --size)");
 
   const GroomDesc groom = io::read_groom_file(args.groom);
+  require_one_group(groom, "plume preview");
   const FrameRange single{args.frame, args.frame, 1};
+  RunSummary summary("preview", single);
   check_output_pattern(args.out, single, "--out", {".png"});
   check_output_locations(args.out, single, "--out", RunInputs(groom, args.guides_cache));
-  if (groom.feathers.enabled)
-    return run_feather_preview(groom, args.frame, args.out, args.size, args.guides, args.threads, args.strands,
-                               args.guides_cache);
+  const std::string path = expand_frame_pattern(args.out, args.frame);
+  const auto done = [&] {
+    summary.wrote(summary.add_output("preview", args.out), path);
+    summary.print();
+  };
+  if (groom.feathers.enabled) {
+    run_feather_preview(groom, args.frame, args.out, args.size, args.guides, args.threads, args.strands,
+                        args.guides_cache);
+    done();
+    return;
+  }
   set_thread_count(args.threads);
   PipelineOptions options;
   options.strand_count = args.strands;
@@ -106,7 +118,8 @@ void run_preview(const PreviewArgs &args) {
   std::vector<Image> images;
   for (const PreviewCamera &camera : cameras)
     images.push_back(render_preview(camera, result.mesh, result.strands, args.guides ? &result.guides : nullptr, style, paint));
-  write_png(expand_frame_pattern(args.out, args.frame), images.size() == 1 ? images.front() : tile_images(images, columns));
+  write_png(path, images.size() == 1 ? images.front() : tile_images(images, columns));
+  done();
 }
 
 }  // namespace

@@ -4,8 +4,10 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/groom_outputs.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
+#include "app/run_outputs.h"
 #include "groom/error.h"
 #include "io/groom_file.h"
 
@@ -18,6 +20,8 @@ struct SimulateArgs {
   std::string frames;
   std::string cache;
   std::string preview;
+  bool cache_given = false, preview_given = false;  // on the command line, even empty
+  bool no_preview = false;
   int preview_every = 0;
   int preview_size = 0;
   int threads = 0;
@@ -25,14 +29,17 @@ struct SimulateArgs {
 
 void run_simulate(const SimulateArgs &args) {
   const GroomDesc groom = io::read_groom_file(args.groom);
+  require_one_group(groom, "plume simulate");
   if (!groom.dynamics.enabled)
     throw InputError(groom.dynamics_loc(), "dynamics.enabled: expected true for plume simulate (the groom has no "
                                            "dynamics: its guides only follow the skin)");
   const FrameRange range = frames_to_produce(args.frames, groom);
-  const std::string cache = args.cache.empty() ? groom.dynamics.cache_pattern : args.cache;
-  const std::string cache_what = args.cache.empty() ? groom.source + ": dynamics.cache" : "--cache";
+  const std::string cache = chosen_output(args.cache, args.cache_given, "--cache", groom.dynamics.cache_pattern);
+  const std::string cache_what = args.cache_given ? "--cache" : groom.source + ": dynamics.cache";
   check_output_pattern(cache, range, cache_what, {".hair", ".usda", ".ply", ".obj"});
-  const PreviewSchedule previews(args.preview, args.preview_every, range, "--preview");
+  std::string preview_what;
+  const PreviewSchedule previews(chosen_preview(args.preview, args.preview_given, args.no_preview, {}, {}, preview_what),
+                                 args.preview_every, range, preview_what);
   const RunInputs inputs(groom, {});
   check_output_locations(cache, range, cache_what, inputs);
   previews.check_locations(range, inputs);
@@ -51,17 +58,27 @@ void run_simulate(const SimulateArgs &args) {
   style.size = preview_size;
   const PreviewCamera camera = groom_camera(pipeline);
   const StrandSet no_strands;
+  RunSummary summary("simulate", range);
+  const int cache_output = summary.add_output("guide cache", cache);
+  const int previews_output = summary.add_output("previews", previews.pattern());
 
   Progress progress("simulate", int(range.count()));
   for (int64_t i = 0; i < range.count(); ++i) {
     const int frame = range.at(i);
     const Mesh posed = pipeline.posed_mesh(frame);
     const StrandSet guides = pipeline.guides_at(frame, posed);
-    write_guide_cache(expand_frame_pattern(cache, frame), guides, frame);
+    const std::string path = expand_frame_pattern(cache, frame);
+    write_guide_cache(path, guides, frame);
+    summary.wrote(cache_output, path);
     const std::string preview = previews.path_at(i, frame);
-    if (!preview.empty()) write_png(preview, render_preview(camera, posed, no_strands, &guides, style));
+    if (!preview.empty()) {
+      write_png(preview, render_preview(camera, posed, no_strands, &guides, style));
+      summary.wrote(previews_output, preview);
+    }
     progress.frame_done(frame);
   }
+  progress.finish();
+  summary.print();
 }
 
 }  // namespace
@@ -70,16 +87,21 @@ void add_simulate_command(CLI::App &app, int &r_exit_code) {
   auto args = std::make_shared<SimulateArgs>();
   CLI::App *cmd = app.add_subcommand("simulate", "Simulate the guides of a groom with dynamics and write a guide cache.");
   cmd->add_option("groom", args->groom, "Groom file (.yaml) with dynamics.enabled: true")->required();
-  cmd->add_option("--frames", args->frames, "Frames: 1-48 or 1-240:2 (default: the groom's output.frames)");
-  cmd->add_option("--cache", args->cache,
+  cmd->add_option("--frames", args->frames, "Frames: 1-48, 1-240:2 or 1-240x2 (default: the groom's output.frames)")
+      ->check(non_empty_frames());
+  CLI::Option *cache_option = cmd->add_option("--cache", args->cache,
                   "Guide cache pattern, one file per frame: cache/guides.####.hair (or .usda) "
                   "(default: the groom's dynamics.cache)");
-  cmd->add_option("--preview", args->preview, "PNG pattern showing the guides, e.g. out/guides.####.png");
+  CLI::Option *preview_option =
+      cmd->add_option("--preview", args->preview, "PNG pattern showing the guides, e.g. out/guides.####.png");
+  cmd->add_flag("--no-preview", args->no_preview, "Write no preview (the default)")->excludes(preview_option);
   cmd->add_option("--preview-every", args->preview_every, "Write a preview every N frames (0: first frame only)")
       ->check(CLI::NonNegativeNumber);
   add_preview_size_option(*cmd, "--preview-size", args->preview_size, "Preview size in pixels (default 800)");
   add_threads_option(*cmd, args->threads, "Worker threads (output does not depend on it)");
-  cmd->callback([args, &r_exit_code] {
+  cmd->callback([args, cache_option, preview_option, &r_exit_code] {
+    args->cache_given = cache_option->count() > 0;
+    args->preview_given = preview_option->count() > 0;
     run_simulate(*args);
     r_exit_code = 0;
   });

@@ -13,8 +13,11 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/feather_pipeline.h"
+#include "app/groom_outputs.h"
 #include "app/pipeline.h"
 #include "app/progress.h"
+#include "app/run_outputs.h"
 #include "app/strand_colors.h"
 #include "app/view_page.h"
 #include "groom/error.h"
@@ -69,6 +72,15 @@ struct ViewInput {
   /// A groom with effects: the frame's strands grown without them, after produce() of that frame
   /// (the checker judges their crossings, as plume check --groom does). Empty otherwise.
   std::function<StrandSet(int)> produce_before_effects;
+  /// A feather groom: its curves (rachis and barbs) are the strands, and its vanes are a mesh whose
+  /// triangles are the same on every frame; vane_positions() gives the vertices of the frame
+  /// produce() made last. Empty for hair.
+  std::vector<Eigen::Vector3i> vane_triangles;
+  int64_t vane_vertex_count = 0;
+  std::function<std::vector<float>()> vane_positions;
+  /// Whether crossings are judged (hair); a feather's barbs meet its rachis by design, and feather
+  /// against feather is not judged here: only points below the skin.
+  bool judge_crossings = true;
 };
 
 /// One frame's findings, kept for the manifest: the counts and the strands flagged (sparse).
@@ -133,18 +145,21 @@ std::string with_commas(int64_t n) {
 /// Produces every frame of `range` from `input`, checks it, chooses the strands shown within
 /// args.max_points and writes the page.
 void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs &args) {
+  RunSummary summary("view", range);
   // The budget: every point the page holds over its frames. A skin or guides that do not move are
   // stored once.
   const int64_t frame_count = range.count();
   const int64_t other_points = int64_t(input.skin.vertex_count()) * (input.skin_moves ? frame_count : 1) +
-                               input.guide_offsets.back() * (input.guides_move ? frame_count : 1);
+                               input.guide_offsets.back() * (input.guides_move ? frame_count : 1) +
+                               input.vane_vertex_count * frame_count;
   const size_t strand_count = input.ids.size();
   int64_t fewest_points = std::numeric_limits<int64_t>::max();
   for (size_t s = 0; s < strand_count; ++s) fewest_points = std::min(fewest_points, input.offsets[s + 1] - input.offsets[s]);
   if (strand_count > 0 && other_points + fewest_points * frame_count > args.max_points)
     throw InputError("--max-points " + std::to_string(args.max_points) + ": the page cannot hold one strand over " +
                      std::to_string(frame_count) + " frames (the skin and guides take " + with_commas(other_points) +
-                     " points, the smallest strand " + with_commas(fewest_points * frame_count) +
+                     " points" + (input.vane_vertex_count > 0 ? " with the vanes" : "") + ", the smallest strand " +
+                     with_commas(fewest_points * frame_count) +
                      "): give fewer frames (--frames A-B:STEP) or a larger --max-points");
   std::vector<uint32_t> every(strand_count);
   std::iota(every.begin(), every.end(), 0u);
@@ -155,9 +170,10 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
   ProblemOptions check_options;
   check_options.crossing_tolerance = args.tolerance;
   check_options.skin_margin = args.margin;
+  check_options.judge_crossings = input.judge_crossings;
   std::vector<FrameCheck> checks(static_cast<size_t>(frame_count));
   std::vector<uint8_t> ever_flagged(strand_count, 0);
-  std::vector<std::vector<float>> skin_positions, guide_positions, kept_positions;
+  std::vector<std::vector<float>> skin_positions, guide_positions, kept_positions, vane_positions;
   std::vector<int> skin_of_frame(static_cast<size_t>(frame_count)), guides_of_frame(static_cast<size_t>(frame_count));
   {
     Progress progress("view", int(frame_count));
@@ -191,6 +207,7 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
       if (guide_positions.empty() || guides != guide_positions.back()) guide_positions.push_back(std::move(guides));
       guides_of_frame[size_t(i)] = int(guide_positions.size()) - 1;
       kept_positions.push_back(gather(result.strands, kept));
+      if (input.vane_positions) vane_positions.push_back(input.vane_positions());
       progress.frame_done(range.at(i));
     }
   }
@@ -302,8 +319,22 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
   for (int b : guides_of_frame) json.value(guide_buffers[size_t(b)]);
   json.end_array().end_object();
 
-  // Feathers' vanes: none yet.
-  json.key("vanes").null();
+  // Feathers' vanes: triangles once, positions per frame.
+  if (input.vane_positions) {
+    std::vector<uint32_t> vane_triangles;
+    vane_triangles.reserve(input.vane_triangles.size() * 3);
+    for (const Eigen::Vector3i &t : input.vane_triangles)
+      vane_triangles.insert(vane_triangles.end(), {uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2])});
+    json.key("vanes").begin_object().key("vertex_count").value(input.vane_vertex_count);
+    json.key("triangle_count").value(input.vane_triangles.size());
+    json.key("triangles").value(blob.add(std::span<const uint32_t>(vane_triangles)));
+    json.key("positions").begin_array();
+    for (const std::vector<float> &positions : vane_positions) json.value(blob.add(std::span<const float>(positions)));
+    json.end_array().end_object();
+    vane_positions.clear();
+  } else {
+    json.key("vanes").null();
+  }
 
   // Colours, one per shown strand (sRGB), as the preview PNGs draw them.
   StrandSet shown_strands;  // ids and counts only: what the colours read
@@ -407,6 +438,54 @@ void write_view(const ViewInput &input, const FrameRange &range, const ViewArgs 
                      std::to_string(blob.byte_count() >> 20) + " MB, more than a browser reads in one piece (" +
                      std::to_string(kMaxPageDataBytes >> 20) + " MB): give a smaller --max-points or fewer frames");
   write_view_page(args.out, input.title, json.text(), blob);
+  summary.wrote(summary.add_output("page", args.out), args.out);
+  summary.print();
+}
+
+/// The page of a feather groom: its rachis and barb curves as the strands (a sample keeps whole
+/// feathers together: every curve of a feather carries its id), the guide stems as guides, and the
+/// vanes as a mesh. The checker's colours mark points below the skin; feather against feather is
+/// not judged here.
+void view_feather_groom(const GroomDesc &groom, const PipelineOptions &options, const FrameRange &range,
+                        const ViewArgs &args) {
+  FeatherPipeline pipeline(groom, options);
+  pipeline.base().check_frame_inputs(range);
+  const feathers::CoatFrame rest = pipeline.rest_frame();
+
+  ViewInput input;
+  input.title = groom.name.empty() ? std::filesystem::path(groom.source).stem().string() : groom.name;
+  input.source = groom_file_name(groom);
+  input.fps = groom.dynamics.fps;
+  input.skin = pipeline.base().rest_mesh();
+  const StrandSet &curves = rest.curves.curves;
+  input.offsets.assign(curves.offsets.begin(), curves.offsets.end());
+  input.ids = curves.ids;
+  input.guide_offsets = pipeline.base().guides().strands.offsets;
+  input.skin_moves = groom.animation.kind != EmitterAnimation::Kind::none;
+  input.guides_move = input.skin_moves || pipeline.base().dynamic();
+  input.bounds = scene_bounds(input.skin, curves);
+  for (const Eigen::Vector3f &p : rest.vanes.positions) input.bounds.extend(p);
+  input.vane_triangles = rest.vanes.triangles;
+  input.vane_vertex_count = int64_t(rest.vanes.positions.size());
+  input.judge_crossings = false;
+  auto last_vanes = std::make_shared<std::vector<float>>();
+  input.produce = [&pipeline, last_vanes, &input](int frame) {
+    FeatherPipeline::Frame grown = pipeline.produce(frame);
+    if (grown.feathers.curves.curves.offsets.size() != input.offsets.size() ||
+        int64_t(grown.feathers.vanes.positions.size()) != input.vane_vertex_count)
+      throw InternalError("plume view: the coat's curves or vanes changed their counts at frame " +
+                          std::to_string(frame));
+    *last_vanes = flatten(grown.feathers.vanes.positions);
+    FrameResult result;
+    result.frame = frame;
+    result.mesh = std::move(grown.mesh);
+    result.guides = std::move(grown.stems);
+    result.strands = std::move(grown.feathers.curves.curves);
+    result.strands.ids.clear();  // the checker names curves by index (a feather's curves share its id)
+    return result;
+  };
+  input.vane_positions = [last_vanes] { return std::move(*last_vanes); };
+  write_view(input, range, args);
 }
 
 /// The page of a groom, from its pipeline.
@@ -414,6 +493,7 @@ void view_groom(const ViewArgs &args) {
   if (!args.mesh.empty()) throw InputError("--mesh: a groom names its emitter (--mesh is for strand files)");
   if (!args.guides.empty()) throw InputError("--guides: a groom names its guides (--guides is for strand files)");
   const GroomDesc groom = io::read_groom_file(args.input);
+  require_one_group(groom, "plume view");
   const FrameRange range = frames_to_produce(args.frames, groom);
   const FrameRange first_only{range.first, range.first, 1};
   check_output_locations(args.out, first_only, "--out", RunInputs(groom, args.guides_cache));
@@ -423,12 +503,16 @@ void view_groom(const ViewArgs &args) {
   options.strand_count = args.strands;
   options.guides_cache = args.guides_cache;
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
+  if (groom.feathers.enabled) {
+    view_feather_groom(groom, options, range, args);
+    return;
+  }
   Pipeline pipeline(groom, options);
   pipeline.check_frame_inputs(range);
 
   ViewInput input;
   input.title = groom.name.empty() ? std::filesystem::path(groom.source).stem().string() : groom.name;
-  input.source = groom.source;
+  input.source = groom_file_name(groom);
   input.fps = groom.dynamics.fps;
   input.skin = pipeline.rest_mesh();
   const size_t strand_count = pipeline.roots().size();
@@ -478,7 +562,7 @@ void view_strand_files(const ViewArgs &args) {
 
   ViewInput input;
   input.title = std::filesystem::path(expand_frame_pattern(args.input, range.first)).stem().string();
-  input.source = args.input;
+  input.source = std::filesystem::path(args.input).filename().string();
   input.skin = rest;
   input.offsets = first.offsets;
   input.ids = first.ids;
@@ -549,7 +633,8 @@ void add_view_command(CLI::App &app, int &r_exit_code) {
       ->required();
   cmd->add_option("--out", args->out, "The page (.html)")->required();
   cmd->add_option("--frames", args->frames,
-                  "Frames: 7, 1-48 or 1-48:4; a range gets a frame slider (default: a groom's output.frames)");
+                  "Frames: 7, 1-48, 1-48:4 or 1-48x4; a range gets a frame slider (default: a groom's output.frames)")
+      ->check(non_empty_frames());
   cmd->add_option("--mesh", args->mesh,
                   "Strand files: the skin they stand on (.obj; a pattern with #### for a moving skin)");
   cmd->add_option("--guides", args->guides, "Strand files: guides to show with them (a file, or a pattern)");

@@ -86,6 +86,15 @@ CLI::Validator finite_non_negative() {
       "FINITE>=0");
 }
 
+CLI::Validator non_empty_frames() {
+  return CLI::Validator(
+      [](std::string &text) {
+        return text.empty() ? std::string("expected a frame range: 7, 1-48, 1-240:2 or 1-240x2, got an empty one")
+                            : std::string();
+      },
+      "RANGE");
+}
+
 int preview_size_of(int option, const GroomDesc &groom) { return option > 0 ? option : groom.output.preview_size; }
 
 void add_preview_size_option(CLI::App &cmd, const std::string &name, int &r_size, const std::string &description) {
@@ -104,6 +113,10 @@ FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom) 
 int groom_first_frame(const GroomDesc &groom) {
   if (groom.output.frames.empty()) return 1;
   return parse_frame_range(groom.output.frames, groom.source + ": output.frames").first;
+}
+
+std::string groom_file_name(const GroomDesc &groom) {
+  return std::filesystem::path(groom.source).filename().string();
 }
 
 PreviewSchedule::PreviewSchedule(std::string pattern, int every, const FrameRange &range, const std::string &what)

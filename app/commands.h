@@ -50,10 +50,17 @@ void add_strands_option(CLI::App &cmd, int64_t &r_strands, const std::string &de
 /// A number >= 0 and finite as a float ("nan", "inf", 1e39 and negatives fail with a message
 /// naming the value).
 CLI::Validator finite_non_negative();
+/// Checks at parse time that --frames is not empty (an empty range would silently mean the groom's):
+/// the message names the accepted forms.
+CLI::Validator non_empty_frames();
 /// The frames to produce: `option` when given, else the groom's output.frames, else frame 1.
 FrameRange frames_to_produce(const std::string &option, const GroomDesc &groom);
 /// The first frame of the groom's own range (output.frames), 1 when it has none.
 int groom_first_frame(const GroomDesc &groom);
+/// The groom file's name without its folders ("sintel.groom.yaml"): what output files record of
+/// their groom (a .usda doc line, a .hair header, a PLY/OBJ comment), so that the same groom in
+/// any checkout or farm mount writes the same bytes.
+std::string groom_file_name(const GroomDesc &groom);
 /// check_frame_pattern(), and the pattern is not empty and ends with one of `extensions`.
 void check_output_pattern(const std::string &pattern, const FrameRange &range, const std::string &what,
                           const std::vector<std::string> &extensions);

@@ -10,18 +10,23 @@
 
 namespace plume {
 
-/// What `plume regrow` was asked for (the command line's values; empty or negative: the groom's).
+/// What `plume regrow` was asked for, its outputs chosen already (the command line's, else the
+/// groom's, renamed for a proxy run: app/run_outputs.h).
 struct FeatherRegrowArgs {
   std::string frames;
-  std::string out;     // feather curves (.usda .hair .ply .obj); empty: output.path
-  std::string vanes;   // vane meshes (.usda .obj); empty: output.vanes
-  std::string preview;
+  std::string out;  // feather curves (.usda .hair .ply .obj); empty: none
+  std::string out_what;  // where `out` came from (the option or the groom key), for messages
+  std::string vanes;  // vane meshes (.usda .obj); empty: none
+  std::string vanes_what;
+  std::string preview;  // empty: none
+  std::string preview_what;
   int preview_every = -1;
   int preview_size = 0;
   bool preview_guides = false;
   int threads = 0;
   int64_t strands = -1;  // follicles
   std::string guides_cache;
+  bool skip_existing = false;  // regrow only the frames whose files are missing
 };
 
 /// `plume regrow` of a feather groom: for every frame of the range, the curves and/or the vane
@@ -50,7 +55,8 @@ void print_vane_mesh_info(const std::string &path);
 /// the emitter of `groom_path` posed at `frame`, default the groom's first): every point or vertex
 /// below the skin (signed distance below margin - eps, eps = 1e-5 x the emitter's bounding-box
 /// diagonal, as for strands; a curve's first point below -eps). Feather against feather is not
-/// judged here. With `json`, the report is one JSON object: file, kind ("feather curves" or "vane
+/// judged on curves; on vane meshes, every pair of feathers whose vanes intersect or touch
+/// (check/vanes.h) is a violation. With `json`, the report is one JSON object: file, kind ("feather curves" or "vane
 /// mesh"), mesh, curves, points, inside_skin {points, margin, deepest}, violations, clean, strict,
 /// exit_code. Returns the exit code (kExitViolations under `strict` when any point is below).
 int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,

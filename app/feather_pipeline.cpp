@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "app/commands.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "io/point_list.h"
@@ -95,8 +96,10 @@ io::FeatherWriteOptions FeatherPipeline::write_options() const {
   io::FeatherWriteOptions options;
   for (const FeatherTemplate &t : groom_.feathers.templates) options.template_names.push_back(t.name);
   options.fps = groom_.dynamics.fps;
+  options.meters_per_unit = groom_.output.meters_per_unit;
+  options.up_axis = groom_.output.up_axis;
   options.obj_uv_along_barbs = groom_.feathers.detail.uv == FeatherDetail::Uv::barb;
-  options.comment = "plume regrow of " + groom_.source;
+  options.comment = "plume regrow of " + groom_file_name(groom_);
   return options;
 }
 

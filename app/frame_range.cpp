@@ -32,7 +32,7 @@ FrameField find_frame_field(const std::string &pattern) {
   FrameField found;
   auto add = [&](size_t begin, size_t length, int padding) {
     if (found.begin != std::string::npos)
-      throw InputError("path pattern \"" + pattern + "\": expected one frame field (#### or %04d), got two");
+      throw InputError("path pattern \"" + pattern + "\": expected one frame field (####, %04d or $F4), got two");
     if (padding > kMaxFramePadding)
       throw InputError("path pattern \"" + pattern + "\": expected a frame field of at most " +
                        std::to_string(kMaxFramePadding) + " digits (a longer one cannot fit a file name)");
@@ -43,6 +43,16 @@ FrameField find_frame_field(const std::string &pattern) {
       size_t j = i;
       while (j < pattern.size() && pattern[j] == '#') ++j;
       add(i, j - i, int(std::min(j - i, size_t(kMaxFramePadding) + 1)));
+      i = j;
+    } else if (pattern[i] == '$' && i + 1 < pattern.size() && pattern[i + 1] == 'F' &&
+               !(i + 2 < pattern.size() && (std::isalpha(static_cast<unsigned char>(pattern[i + 2])) || pattern[i + 2] == '_'))) {
+      // Houdini's $F (the frame) and $F4 (padded to 4 digits); $FF or $Foo are other variables,
+      // kept as text.
+      size_t j = i + 2;
+      int padding = 0;
+      while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j])))
+        padding = std::min(padding * 10 + (pattern[j++] - '0'), kMaxFramePadding + 1);
+      add(i, j - i, padding);
       i = j;
     } else if (pattern[i] == '%') {
       size_t j = i + 1;
@@ -68,8 +78,8 @@ FrameField find_frame_field(const std::string &pattern) {
 
 FrameRange parse_frame_range(const std::string &text, const std::string &what) {
   auto fail = [&](const std::string &why) {
-    return InputError(what + ": expected a frame range like 1-48, 1-240:2 or 7, got \"" + text + "\"" +
-                      (why.empty() ? "" : " (" + why + ")"));
+    return InputError(what + ": expected a frame range: 7, 1-48, 1-240:2 or 1-240x2 (every 2nd frame of 1-240), got \"" +
+                      text + "\"" + (why.empty() ? "" : " (" + why + ")"));
   };
   FrameRange range;
   size_t pos = 0;
@@ -78,10 +88,13 @@ FrameRange parse_frame_range(const std::string &text, const std::string &what) {
   if (pos < text.size() && text[pos] == '-') {
     ++pos;
     if (!read_int(text, pos, range.last)) throw fail("");
-  }
-  if (pos < text.size() && text[pos] == ':') {
-    ++pos;
-    if (!read_int(text, pos, range.step)) throw fail("");
+    if (pos < text.size() && (text[pos] == ':' || text[pos] == 'x')) {
+      ++pos;
+      if (!read_int(text, pos, range.step)) throw fail("");
+    }
+  } else if (pos < text.size() && (text[pos] == ':' || text[pos] == 'x')) {
+    // "1:240" reads as frames 1 to 240 in some tools and as frame 1 every 240 in others: neither guess is safe.
+    throw fail("a step follows a range A-B; frames 1 to 240 are 1-240");
   }
   if (pos != text.size()) throw fail("");
   if (range.last < range.first) throw fail("the last frame is before the first");
@@ -159,7 +172,7 @@ void check_frame_pattern(const std::string &pattern, const FrameRange &range, co
   }
   if (range.count() > 1 && !has_frame_field(pattern))
     throw InputError(what + ": " + std::to_string(range.count()) +
-                     " frames need a frame field in the path (#### or %04d), got \"" + pattern + "\"");
+                     " frames need a frame field in the path (####, %04d or $F4), got \"" + pattern + "\"");
 }
 
 std::vector<std::string> remove_stale_temp_files(const std::string &pattern, const FrameRange &range) {

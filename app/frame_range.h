@@ -1,5 +1,5 @@
-// Frame ranges ("1-48", "1-240:2", "7") and per-frame path patterns ("hair.####.usda",
-// "hair.%04d.usda") for the `plume` command.
+// Frame ranges ("1-48", "1-240:2", "1-240x2", "7") and per-frame path patterns ("hair.####.usda",
+// "hair.%04d.usda", "hair.$F4.usda") for the `plume` command.
 #pragma once
 
 #include <cstdint>
@@ -32,8 +32,10 @@ struct FrameRange {
   int at(int64_t i) const { return int(first + i * step); }
 };
 
-/// Parses "A", "A-B" or "A-B:S" (A, B may be negative: "-5-10"). Throws InputError naming `what`
-/// (e.g. "--frames") for anything else, for B < A, for S < 1 and for a number beyond kMaxFrame.
+/// Parses "A", "A-B", "A-B:S" or "A-BxS" (A, B may be negative: "-5-10"; the x form is Nuke's and
+/// Deadline's). Throws InputError naming `what` (e.g. "--frames") and the accepted forms for
+/// anything else ("1:240", whose meaning differs between tools, included), for B < A, for S < 1
+/// and for a number beyond kMaxFrame.
 FrameRange parse_frame_range(const std::string &text, const std::string &what);
 
 /// Throws InputError naming `what` when `range` holds more than kMaxFramesPerRun frames.
@@ -43,11 +45,12 @@ void check_frames_per_run(const FrameRange &range, const std::string &what);
 /// allow. A wider field could name no file.
 inline constexpr int kMaxFramePadding = 255;
 
-/// True when `pattern` holds a frame field: a run of '#' or a printf field %d / %0Nd.
+/// True when `pattern` holds a frame field: a run of '#', a printf field %d / %0Nd, or Houdini's
+/// $F / $FN (not followed by a letter or '_': $FF and $Foo are other variables, kept as text).
 bool has_frame_field(const std::string &pattern);
 
 /// Replaces the frame field of `pattern` with `frame`, zero-padded to the number of '#' (or N of
-/// %0Nd), whatever the width (the sign counts in it, as in printf). A pattern without a field is
+/// %0Nd or $FN), whatever the width (the sign counts in it, as in printf). A pattern without a field is
 /// returned as is. Throws InputError for two fields, a malformed %-field or one wider than
 /// kMaxFramePadding.
 std::string expand_frame_pattern(const std::string &pattern, int frame);

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <exception>
 
+#include "app/cmd_help.h"
 #include "app/commands.h"
+#include "app/version.h"
 #include "groom/error.h"
 #include "io/atomic_file.h"
 
@@ -41,9 +43,10 @@ void remove_temp_files_on_stop_signals() {
 
 int main(int argc, char **argv) {
   remove_temp_files_on_stop_signals();
-  CLI::App app{"Plume: regrows dense hair from guide strands on an emitter mesh, frame by frame."};
-  app.set_version_flag("--version", std::string("plume ") + PLUME_VERSION);
+  CLI::App app{"Plume: regrows dense hair from guide strands on an emitter mesh, frame by frame.", "plume"};
+  app.set_version_flag("--version", plume::version_text());
   app.require_subcommand(1);
+  plume::set_help_conventions(app);  // before the subcommands, which copy it
   int exit_code = 0;
   plume::add_regrow_command(app, exit_code);
   plume::add_simulate_command(app, exit_code);
@@ -51,8 +54,12 @@ int main(int argc, char **argv) {
   plume::add_info_command(app, exit_code);
   plume::add_check_command(app, exit_code);
   plume::add_view_command(app, exit_code);
+  plume::add_help_command(app);
+  plume::add_version_command(app);
   // Before any command runs (and after --help and --version, which need no threads).
-  app.parse_complete_callback([] { plume::check_omp_num_threads(); });
+  app.parse_complete_callback([&app] {
+    if (!plume::chose_help_or_version(app)) plume::check_omp_num_threads();
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {

@@ -164,6 +164,7 @@ StrandProblems find_problems(const StrandSet &strands, const Mesh &mesh, const P
   problems.points_inside = check::count_points_inside(strands, query, options.skin_margin, strand_count, inside);
   problems.strands_inside = inside.size();
   for (uint64_t id : inside) flag(id, kProblemInside);
+  if (!options.judge_crossings) return problems;
 
   check::CheckOptions check_options;
   check_options.crossing_tolerance = options.crossing_tolerance;

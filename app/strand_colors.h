@@ -63,6 +63,8 @@ struct ProblemOptions {
   /// The most crossing pairs of each kind flagged: beyond it, a sample of the pairs spread over
   /// the groom (keeping the checker's memory and time bounded whatever the number of pairs).
   size_t max_pairs = 16384;
+  /// False: points inside the skin only (a feather's barbs meet its rachis by design).
+  bool judge_crossings = true;
 };
 
 /// The checker's findings on one frame's strands, per strand.

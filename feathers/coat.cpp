@@ -69,10 +69,26 @@ Eigen::Matrix3f minimal_rotation(const Eigen::Vector3f &a, const Eigen::Vector3f
   return Eigen::Matrix3f::Identity() + wx + wx * wx / (1.0f + c);
 }
 
+/// The turn taking unit vector a to unit vector b about their common normal, eased in below
+/// kEasedTurn radians (the angle becomes angle^2 / kEasedTurn there, continuously): directions
+/// read from a skin's float frames differ by rounding (about 1e-6 radians) when nothing turned, and
+/// a feather a rigid motion carries must not take that noise as a turn.
+constexpr float kEasedTurn = 1e-4f;
+Eigen::Matrix3f eased_turn(const Eigen::Vector3f &a, const Eigen::Vector3f &b) {
+  const Eigen::Vector3f w = a.cross(b);
+  const float sine = w.norm();
+  const float angle = std::atan2(sine, a.dot(b));
+  if (!(sine > 1e-30f)) return angle > 1.0f ? minimal_rotation(a, b) : Eigen::Matrix3f::Identity();
+  const float eased = angle < kEasedTurn ? angle * angle / kEasedTurn : angle;
+  return Eigen::AngleAxisf(eased, w / sine).toRotationMatrix();
+}
+
 Eigen::Vector3f unit_or(const Eigen::Vector3f &v, const Eigen::Vector3f &fallback) {
   const float n = v.norm();
   return n > 1e-20f ? Eigen::Vector3f(v / n) : fallback;
 }
+
+}  // namespace
 
 /// A guide stem at this frame: its segments' unit directions in its root's skin frame, and the arc
 /// length where each segment starts.
@@ -81,6 +97,8 @@ struct StemFrame {
   std::vector<float> arc;                         // per segment: arc length at its start
   std::vector<int64_t> first;                     // per stem: its first segment, stems + 1 entries
 };
+
+namespace {
 
 StemFrame stem_frame(const Mesh &posed, const StrandSet &stems, const std::vector<SurfacePoint> &roots) {
   StemFrame frame;
@@ -424,7 +442,8 @@ void KeyFeatherField::weights(const SurfacePoint &point, std::span<float> r_weig
 }
 
 Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, Follicles follicles)
-    : detail_(desc.detail), lift_(desc.lift), clearance_(desc.clearance), falloff_(desc.falloff) {
+    : detail_(desc.detail), lift_(desc.lift), clearance_(desc.clearance), falloff_(desc.falloff), layers_(desc.layers) {
+  layering_.offset = desc.layer_offset;
   if (stems.size() == 0) throw InputError(desc.loc, "feathers: the guides hold no stems");
   if (desc.key_feathers.empty()) throw InputError(desc.loc, "feathers.key_feathers: expected at least one key feather");
   points_ = std::move(follicles.points);
@@ -546,6 +565,23 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
     }
   }
   stem_offsets_ = stems.strands.offsets;
+
+  // The rest stems' direction at each feather's first spine segment, as grow() blends it.
+  const StemFrame rest_stems = stem_frame(rest_mesh, stems.strands, stem_roots_);
+  rest_first_.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float step = (shapes_[i].main.calamus_length + shapes_[i].main.rachis_length) / float(kSpineSegments);
+    const Eigen::Vector3f shaft = base_frames_[i].toRotationMatrix().col(2);
+    rest_first_[i] = unit_or(blend_stems(rest_stems, i, 0.5f * step), shaft);
+  }
+
+  // The layer order, from which feather covers which at rest.
+  if (layers_ && n > 0) {
+    const MeshQuery rest_query(rest_mesh);
+    CoatFrame rest;
+    grow_feathers(rest_mesh, rest_query, stems.strands, rest, nullptr);
+    order_ = layer_order_from_coverage(rest, ranges());
+  }
 }
 
 void Coat::bind_stems(const Mesh &rest_mesh, const Guides &stems) {
@@ -598,8 +634,25 @@ void Coat::bind_stems(const Mesh &rest_mesh, const Guides &stems) {
   }
 }
 
+Eigen::Vector3f Coat::blend_stems(const StemFrame &frames, size_t i, float z) const {
+  Eigen::Vector3f blend = Eigen::Vector3f::Zero();
+  for (int s = 0; s < k_; ++s) {
+    const Stem &stem = stems_[i * size_t(k_) + size_t(s)];
+    if (stem.guide < 0 || stem.weight == 0.0f) continue;
+    blend += stem.weight * (stem.rest_rotation * stem_direction(frames, size_t(stem.guide), z));
+  }
+  return blend;
+}
+
 void Coat::grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
                 const skin::SkinGrid *skin_grid) const {
+  grow_feathers(posed, query, stems, r_frame, skin_grid);
+  r_frame.layering = {};
+  if (layers_ && !order_.bottom_up.empty()) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame);
+}
+
+void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
+                         const skin::SkinGrid *skin_grid) const {
   if (stems.offsets != stem_offsets_)
     throw InputError("feathers: the guide stems of this frame (" + std::to_string(stems.strand_count()) +
                      " stems, " + std::to_string(stems.point_count()) +
@@ -637,26 +690,18 @@ void Coat::grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stem
     const FeatherShape &shape = shapes_[i];
     const SurfaceFrame skin = surface_frame(posed, points_[i]);
     r_frame.root_frames[i] = skin;
-    const Eigen::Matrix3f base = skin.basis * base_frames_[i].toRotationMatrix();
     Spine spine;
     const float length = shape.main.calamus_length + shape.main.rachis_length;
     spine.step = length / float(kSpineSegments);
+    // Blend the stems' directions at each spine segment's middle, in the follicle's skin frame.
+    std::array<Eigen::Vector3f, kSpineSegments> local;
+    for (int j = 0; j < kSpineSegments; ++j) local[size_t(j)] = blend_stems(stem_frames, i, (float(j) + 0.5f) * spine.step);
+    const Eigen::Vector3f first_local = local[0];
+    // The base frame turns as the stems' first direction turned from rest (identity at rest).
+    const Eigen::Matrix3f base = skin.basis * eased_turn(rest_first_[i], unit_or(first_local, rest_first_[i])) *
+                                 base_frames_[i].toRotationMatrix();
     spine.points[0] = Eigen::Vector3f::Zero();
     spine.directions[0] = base.col(2);
-    // Blend the stems' directions at each spine segment's middle, in the follicle's skin frame.
-    Eigen::Vector3f first_local = Eigen::Vector3f::Zero();
-    std::array<Eigen::Vector3f, kSpineSegments> local;
-    for (int j = 0; j < kSpineSegments; ++j) {
-      const float z = (float(j) + 0.5f) * spine.step;
-      Eigen::Vector3f blend = Eigen::Vector3f::Zero();
-      for (int s = 0; s < k_; ++s) {
-        const Stem &stem = stems_[i * size_t(k_) + size_t(s)];
-        if (stem.guide < 0 || stem.weight == 0.0f) continue;
-        blend += stem.weight * (stem.rest_rotation * stem_direction(stem_frames, size_t(stem.guide), z));
-      }
-      local[size_t(j)] = blend;
-      if (j == 0) first_local = blend;
-    }
     // The spine follows the stems' bends relative to their first segment, starting from the base frame:
     // each segment's blended direction is turned by the rotation that takes the first one to the
     // base's shaft, so a feather whose stems are straight is straight along its (varied) base.

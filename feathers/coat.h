@@ -12,6 +12,7 @@
 
 #include "feathers/build.h"
 #include "feathers/feather.h"
+#include "feathers/layering.h"
 #include "groom/feather_desc.h"
 #include "groom/feather_frame.h"
 #include "groom/guides.h"
@@ -78,10 +79,14 @@ struct CoatFrame {
   std::vector<SurfaceFrame> root_frames;
   std::vector<float> lifts;
   std::vector<float> scales;
+  /// What keeping the feathers apart did this frame (zeros when the coat has no layers).
+  LayeringStats layering;
 };
 
 /// A coat bound to its rest skin and guide stems. Bind once; grow() every frame (const, parallel,
 /// the same bytes for any thread count: every feather is computed alone into its own place).
+struct StemFrame;  // the stems of one frame, in their roots' skin frames (coat.cpp)
+
 class Coat {
  public:
   /// Binds every follicle: its key-feather weights and blended template (with its seeded
@@ -111,13 +116,24 @@ class Coat {
   void grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
             const skin::SkinGrid *skin_grid = nullptr) const;
 
+  /// The layer order frozen at binding (empty when the coat has no layers).
+  const LayerOrder &layer_order() const { return order_; }
+  /// Where each feather's output lies in a frame.
+  FeatherRanges ranges() const { return {first_point_, first_vertex_, first_triangle_}; }
+
  private:
+  /// grow() without keeping feathers apart.
+  void grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
+                     const skin::SkinGrid *skin_grid) const;
   struct Stem {
     int32_t guide = -1;
     float weight = 0.0f;
     Eigen::Quaternionf rest_rotation;  // Q_follicle(rest)^T M Q_guide(rest)
   };
   void bind_stems(const Mesh &rest_mesh, const Guides &stems);
+  /// Feather i's stems' directions at arc length z, blended by their weights and carried into the
+  /// follicle's skin frame (not unit).
+  Eigen::Vector3f blend_stems(const StemFrame &frames, size_t i, float z) const;
 
   FeatherDetail detail_;
   bool lift_ = true;
@@ -135,7 +151,14 @@ class Coat {
   /// Per feather, its base frame in its follicle's rest skin frame (columns side, dorsal, shaft), with
   /// the seeded direction and lift variation applied.
   std::vector<Eigen::Quaternionf> base_frames_;
+  /// Per feather, its stems' blended direction at the middle of its spine's first segment, in its
+  /// follicle's skin frame, on the rest stems: a frame's stems turning away from it (a control's
+  /// lift, the simulation) turn the feather's base frame with them.
+  std::vector<Eigen::Vector3f> rest_first_;
   float falloff_ = 2.0f;
+  bool layers_ = true;
+  LayeringOptions layering_;
+  LayerOrder order_;
   // Output layout, from the shapes and the detail: per feather its first curve, point, vane vertex
   // and vane triangle (size() + 1 entries each), and the curves' offsets.
   std::vector<int64_t> first_curve_, first_point_, first_vertex_, first_triangle_;

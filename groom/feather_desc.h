@@ -161,6 +161,11 @@ struct FeatherDesc {
   /// its root where no turn clears it).
   bool lift = true;
   float clearance = 0.03f;
+  /// Keep feathers apart (feathers/layering.h): an order frozen at rest, and each feather turned up
+  /// until its vanes keep `layer_offset` times its extent from every lower feather's. Off unless
+  /// the groom asks (layers: {enabled: true}): its cost grows with the coat's density.
+  bool layers = false;
+  float layer_offset = 0.002f;
   FileLoc loc;
 
   /// Index of a template by name, or -1.

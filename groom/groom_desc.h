@@ -77,6 +77,13 @@ struct OutputSettings {
   std::string preview_pattern; // e.g. out/preview.####.png
   int preview_every = 0;       // write a preview every N frames (0: first frame only)
   int preview_size = 800;     // [16, max_preview_size]
+  /// USD layer metadata of the outputs: metres per scene unit (output.units) and the up axis,
+  /// "Y" or "Z" (output.up_axis). Metadata only: the points are written as the groom has them.
+  double meters_per_unit = 0.01;
+  std::string up_axis = "Y";
+  /// The top-level USD stage of a .usda sequence (output.stage, absolute); empty: derived from
+  /// the output pattern (app/usd_stage_output.h).
+  std::string stage_path;
   FileLoc loc;
 };
 
@@ -101,6 +108,18 @@ struct GroomDesc {
   FeatherDesc feathers;
   ControlSettings controls;
   OutputSettings output;
+
+  /// The hair groups of a groom file with a `groups` list (scalp, brows, lashes...), each a full
+  /// description (guides, roots, strands, interpolation, partings, effects, dynamics, controls) that
+  /// shares this groom's source, name, emitter, animation and output; the fields above are then
+  /// those of the first group. Empty for a groom file without groups: this description is its one
+  /// group. A group's own `groups` is empty.
+  std::vector<GroomDesc> groups;
+  /// For a hair group: its name (a USD prim name, unique in the groom) and its index in `groups`;
+  /// empty and 0 for a groom without groups.
+  std::string group_name;
+  int group_index = 0;
+  FileLoc group_loc;
 
   /// Where the dynamics section is written, or the groom file when it has none (for messages).
   FileLoc dynamics_loc() const { return dynamics.loc.file.empty() ? FileLoc{source} : dynamics.loc; }

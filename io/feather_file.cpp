@@ -397,6 +397,11 @@ FeatherDesc FeatherReader::read(const YAML::Node &node) {
   d.lift = skin.boolean("lift", d.lift);
   d.clearance = within(skin, "clearance", d.clearance, 0.0, 1.0);
   skin.finish();
+
+  YamlMap layers = m.map("layers");
+  d.layers = layers.boolean("enabled", d.layers);
+  d.layer_offset = within(layers, "offset", d.layer_offset, 0.0, 0.5);
+  layers.finish();
   m.finish();
   return d;
 }

@@ -17,29 +17,10 @@ namespace plume::io {
 namespace {
 
 using detail::append_number;
+using detail::append_string_literal;
+using detail::append_tuple;
 using detail::flush_block_if_full;
 
-void append_string_literal(std::string &out, std::string_view text) {
-  out += '"';
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += c;
-  }
-  out += '"';
-}
-
-void append_tuple(std::string &out, const float *values, int n) {
-  out += '(';
-  for (int k = 0; k < n; ++k) {
-    if (k > 0) out += ", ";
-    append_number(out, values[k]);
-  }
-  out += ')';
-}
 
 /// The layer header: doc, default prim, units, up axis and the frame's time code.
 std::string layer_header(const FeatherWriteOptions &options) {
@@ -51,7 +32,7 @@ std::string layer_header(const FeatherWriteOptions &options) {
   }
   out += "    defaultPrim = \"Groom\"\n    metersPerUnit = ";
   append_number(out, options.meters_per_unit);
-  out += "\n    upAxis = \"Y\"\n";
+  out += "\n    upAxis = \"" + options.up_axis + "\"\n";
   if (options.time_code) {
     for (const char *key : {"startTimeCode", "endTimeCode"}) {
       out += std::string("    ") + key + " = ";
@@ -166,7 +147,7 @@ void write_curves_usda(AtomicFile &file, const FeatherCurves &f, const FeatherWr
   std::vector<long long> ids(c.ids.begin(), c.ids.end());
   std::vector<long long> parts(f.parts.size());
   for (size_t i = 0; i < parts.size(); ++i) parts[i] = (long long)f.parts[i];
-  write_array(file, out, "int[] primvars:groom_id", templates, kAppendInt, "uniform");
+  write_array(file, out, "int[] primvars:groom_group_id", templates, kAppendInt, "uniform");
   write_array(file, out, "int64[] primvars:plume_id", ids, kAppendInt, "uniform");
   write_array(file, out, "int64[] primvars:feather_id", ids, kAppendInt, "uniform");
   write_array(file, out, "int[] primvars:feather_part", parts, kAppendInt, "uniform");
@@ -378,8 +359,20 @@ Mesh read_vanes_usda(const std::string &path) {
     at += 3;
   }
   if (at != indices.size()) throw InputError(FileLoc{path}, "faceVertexIndices: expected 3 per face, got more");
+  // Each feather's triangles as a group named feather_<id> (as the OBJ writer names them).
   mesh.group_names = {"default"};
   mesh.triangle_groups.assign(mesh.triangles.size(), 0);
+  if (array_start(body, "int64[] primvars:feather_id") != std::string::npos) {
+    const std::vector<double> ids = array("int64[] primvars:feather_id");
+    if (ids.size() != mesh.triangles.size())
+      throw InputError(FileLoc{path}, "primvars:feather_id: expected one id per face (" +
+                                          std::to_string(mesh.triangles.size()) + "), got " + std::to_string(ids.size()));
+    mesh.group_names.clear();
+    for (size_t f = 0; f < ids.size(); ++f) {
+      if (f == 0 || ids[f] != ids[f - 1]) mesh.group_names.push_back("feather_" + std::to_string((long long)ids[f]));
+      mesh.triangle_groups[f] = int(mesh.group_names.size()) - 1;
+    }
+  }
   mesh.validate(path);
   mesh.compute_normals();
   return mesh;

@@ -19,6 +19,8 @@ struct FeatherWriteOptions {
   std::optional<double> time_code;
   double fps = 24.0;
   double meters_per_unit = 0.01;
+  /// USD layer metadata `upAxis`: "Y" or "Z".
+  std::string up_axis = "Y";
   /// OBJ vane meshes carry one set of texture coordinates: across the vane, or along the barbs.
   bool obj_uv_along_barbs = false;
   std::string comment;
@@ -28,7 +30,7 @@ struct FeatherWriteOptions {
 /// - `.usda`: linear BasisCurves "feathers" with vertex widths, `int64[] primvars:feather_id` and
 ///   `primvars:plume_id` (the feathers' stable ids), `int[] primvars:feather_part` (0 rachis, 1 left
 ///   barb, 2 right barb, 3..5 the afterfeather's), `int[] primvars:feather_template` and
-///   `primvars:groom_id` (the template index: one Unreal hair group per template),
+///   `primvars:groom_group_id` (the template index: one Unreal hair group per template),
 ///   `string[] primvars:feather_template_names`, and vertex texture coordinates `primvars:st` (along
 ///   the barb) and `primvars:st_vane` (across the vane);
 /// - `.ply`: binary vertices x, y, z, width, `uint feather` (the feather's index in the coat) and
@@ -45,7 +47,9 @@ void write_vane_mesh(const std::string &path, const VaneMesh &vanes, const Feath
 
 /// Reads the points and triangles of a vane mesh as write_vane_mesh writes it (`.usda`: the first
 /// Mesh prim's points, or their first time sample, faceVertexCounts of 3 and faceVertexIndices;
-/// `.obj`: as read_obj_mesh). Throws InputError "file:line: ..." for anything else.
+/// `.obj`: as read_obj_mesh). Each feather's triangles form a group named feather_<id> (the OBJ's
+/// groups; the `.usda`'s primvars:feather_id, when present). Throws InputError "file:line: ..." for
+/// anything else.
 Mesh read_vane_mesh(const std::string &path);
 
 }  // namespace plume::io

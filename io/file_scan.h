@@ -147,4 +147,28 @@ inline void append_number(std::string &out, unsigned long long value) {
   out.append(buffer, result.ptr);
 }
 
+/// `text` as a USD string literal: in double quotes, with quotes, backslashes and newlines escaped.
+inline void append_string_literal(std::string &out, std::string_view text) {
+  out += '"';
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  out += '"';
+}
+
+/// `n` floats as a USD tuple: "(x, y, z)".
+inline void append_tuple(std::string &out, const float *values, int n) {
+  out += '(';
+  for (int k = 0; k < n; ++k) {
+    if (k > 0) out += ", ";
+    append_number(out, values[k]);
+  }
+  out += ')';
+}
+
 }  // namespace plume::io::detail

@@ -62,9 +62,13 @@ std::string join(const std::vector<std::string> &items, const std::string &separ
 
 std::string indexed(const std::string &path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
-/// True when `pattern` holds a frame field: a run of '#' or a printf field %d / %0Nd.
+/// True when `pattern` holds a frame field: a run of '#', a printf field %d / %0Nd, or Houdini's
+/// $F / $FN (not followed by a letter or '_'), as app/frame_range.h reads them.
 bool has_frame_field(const std::string &pattern) {
   if (pattern.find('#') != std::string::npos) return true;
+  for (size_t i = pattern.find("$F"); i != std::string::npos; i = pattern.find("$F", i + 1))
+    if (i + 2 == pattern.size() || !(std::isalpha(static_cast<unsigned char>(pattern[i + 2])) || pattern[i + 2] == '_'))
+      return true;
   for (size_t i = 0; i + 1 < pattern.size(); ++i) {
     if (pattern[i] != '%') continue;
     size_t j = i + 1;
@@ -74,7 +78,7 @@ bool has_frame_field(const std::string &pattern) {
   return false;
 }
 
-/// "A", "A-B" or "A-B:S" with integers A <= B (either may be negative, "-5-10") and S >= 1.
+/// "A", "A-B", "A-B:S" or "A-BxS" with integers A <= B (either may be negative, "-5-10") and S >= 1.
 bool valid_frame_range(const std::string &text) {
   size_t pos = 0;
   auto integer = [&](long long &r_value) {
@@ -92,7 +96,7 @@ bool valid_frame_range(const std::string &text) {
   if (pos < text.size() && text[pos] == '-') {
     ++pos;
     if (!integer(last)) return false;
-    if (pos < text.size() && text[pos] == ':') {
+    if (pos < text.size() && (text[pos] == ':' || text[pos] == 'x')) {
       ++pos;
       if (!integer(step)) return false;
     }
@@ -207,7 +211,7 @@ class GroomReader {
     return path;
   }
   /// An output path pattern (need not exist), with one of `extensions`; `needs_frame` requires a
-  /// frame field (#### or %04d).
+  /// frame field (####, %04d or $F4).
   std::string output_pattern(YamlMap &m, const std::string &key, const std::vector<std::string> &extensions,
                              bool needs_frame) {
     const std::string written = m.string(key, "");
@@ -217,7 +221,7 @@ class GroomReader {
     if (std::find(extensions.begin(), extensions.end(), lower_extension(written)) == extensions.end())
       fail_expected(file_, node, m.key_path(key), "a path ending in " + join(extensions, ", "));
     if (needs_frame && !has_frame_field(written))
-      fail_expected(file_, node, m.key_path(key), "a path with a frame field (#### or %04d)");
+      fail_expected(file_, node, m.key_path(key), "a path with a frame field (####, %04d or $F4)");
     return absolute(written);
   }
 
@@ -238,6 +242,9 @@ class GroomReader {
   void read_dynamics(YamlMap &root, GroomDesc &groom);
   CollisionShape read_shape(const YAML::Node &node, const std::string &path);
   void read_output(YamlMap &root, GroomDesc &groom);
+  void read_group(YamlMap &root, GroomDesc &groom);
+  void read_groups(YamlMap &root, GroomDesc &groom);
+  void read_output_units(YamlMap &out, OutputSettings &o);
 
   std::string file_;
   fs::path folder_;
@@ -321,7 +328,8 @@ void GroomReader::read_emitter(YamlMap &root, GroomDesc &groom) {
 }
 
 void GroomReader::read_roots(YamlMap &root, GroomDesc &groom) {
-  if (!root.given("roots")) throw InputError(root.loc(), "roots: missing required key (a map with count, density or file)");
+  if (!root.given("roots"))
+    throw InputError(root.loc(), root.key_path("roots") + ": missing required key (a map with count, density or file)");
   YamlMap roots = root.map("roots");
   RootSettings &r = groom.roots;
   r.loc = roots.loc();
@@ -333,7 +341,7 @@ void GroomReader::read_roots(YamlMap &root, GroomDesc &groom) {
     r.file = existing_file(roots, "file", {".hair", ".ply", ".usda", ".obj", ".txt"});
   } else {
     if (roots.given("count") == roots.given("density"))
-      fail_expected(file_, root.node("roots"), "roots", "one of count, density or file");
+      fail_expected(file_, root.node("roots"), root.key_path("roots"), "one of count, density or file");
     r.source = RootSettings::Source::scatter;
     r.count = roots.integer("count", r.count, 1, max_root_count);
     r.density = roots.number_in("density", r.density, 0.0, double(max_root_count));
@@ -608,11 +616,115 @@ void GroomReader::read_output(YamlMap &root, GroomDesc &groom) {
     forbid(out, "vanes", "without a feathers section (vanes are feather meshes)");
   o.frames = out.string("frames", o.frames);
   if (!o.frames.empty() && !valid_frame_range(o.frames))
-    fail_expected(file_, out.node("frames"), out.key_path("frames"), "a frame range A, A-B or A-B:S (A <= B, S >= 1)");
+    fail_expected(file_, out.node("frames"), out.key_path("frames"), "a frame range A, A-B, A-B:S or A-BxS (A <= B, S >= 1)");
   o.preview_pattern = output_pattern(out, "preview", {".png"}, false);
   o.preview_every = int(out.integer("preview_every", o.preview_every, 0, 1000000));
   o.preview_size = int(out.integer("preview_size", o.preview_size, 16, max_preview_size));
+  read_output_units(out, o);
   out.finish();
+}
+
+/// output.units (a unit's name or metres per unit), output.up_axis and output.stage.
+void GroomReader::read_output_units(YamlMap &out, OutputSettings &o) {
+  static const std::vector<std::pair<std::string, double>> units{
+      {"mm", 0.001}, {"cm", 0.01}, {"dm", 0.1}, {"m", 1.0}, {"km", 1000.0}, {"in", 0.0254}, {"ft", 0.3048}};
+  if (out.given("units")) {
+    const YAML::Node node = out.node("units");
+    const std::string expected = "a length unit (mm, cm, dm, m, km, in, ft) or metres per unit (a number in (0, 1e6])";
+    if (!node.IsScalar()) fail_expected(file_, node, out.key_path("units"), expected);
+    const auto named = std::find_if(units.begin(), units.end(), [&](const auto &unit) { return unit.first == node.Scalar(); });
+    if (named != units.end()) {
+      o.meters_per_unit = named->second;
+    } else {
+      double value = 0.0;
+      try {
+        value = node_number(node, out.key_path("units"), file_);
+      } catch (const InputError &) {
+        fail_expected(file_, node, out.key_path("units"), expected);
+      }
+      if (!(value > 0.0 && value <= 1e6)) fail_expected(file_, node, out.key_path("units"), expected);
+      o.meters_per_unit = value;
+    }
+  }
+  o.up_axis = out.choice("up_axis", o.up_axis, {"Y", "Z"});
+  o.stage_path = output_pattern(out, "stage", {".usda"}, false);
+  if (!o.stage_path.empty() && has_frame_field(o.stage_path))
+    fail_expected(file_, out.node("stage"), out.key_path("stage"), "a path without a frame field (one stage for the range)");
+}
+
+/// Everything a hair group says, from `root` (the groom file's top level, or one item of its
+/// groups list): guides, then roots, strands, interpolation, partings and effects (or feathers),
+/// dynamics and controls.
+void GroomReader::read_group(YamlMap &root, GroomDesc &groom) {
+  if (!root.given("guides")) throw InputError(root.loc(), root.key_path("guides") + ": missing required key (a map with file)");
+  YamlMap guides = root.map("guides");
+  if (!guides.given("file"))
+    throw InputError(guides.loc(), guides.key_path("file") + ": missing required key (a .hair, .ply, .usda or .obj path)");
+  groom.guides_path = existing_file(guides, "file", {".hair", ".ply", ".usda", ".obj"});
+  groom.guides_loc = guides.loc("file");
+  guides.finish();
+
+  if (root.given("feathers")) {
+    // A feather groom: its follicles, templates and stems say where and what grows.
+    for (const char *key : {"roots", "strands", "interpolation", "partings", "effects"})
+      forbid(root, key, "in a feather groom (feathers.follicles places the feathers)");
+    groom.feathers = read_feathers_section(root.node("feathers"), file_, folder_.string());
+    set_feather_dynamics_defaults(groom.dynamics);
+  } else {
+    read_roots(root, groom);
+    read_strands(root, groom);
+    read_interpolation(root, groom);
+    read_partings(root, groom);
+    const std::vector<YAML::Node> effects = root.sequence("effects");
+    for (size_t i = 0; i < effects.size(); ++i)
+      groom.effects.push_back(read_effect(effects[i], indexed(root.key_path("effects"), i)));
+  }
+
+  read_dynamics(root, groom);
+  read_controls_section(root, file_, groom);
+}
+
+/// A groom of several hair groups: the top level holds the shared keys (name, emitter, output) and
+/// `groups`, a list of full hair group descriptions, each with a unique name.
+void GroomReader::read_groups(YamlMap &root, GroomDesc &groom) {
+  for (const char *key : {"guides", "roots", "strands", "interpolation", "partings", "effects", "dynamics", "controls"})
+    forbid(root, key, "beside groups (each group has its own: move it into the groups)");
+  forbid(root, "feathers", "with groups (hair groups grow strands; a feather groom has no groups)");
+  read_emitter(root, groom);
+  read_output(root, groom);
+  const std::vector<YAML::Node> items = root.sequence("groups");
+  if (items.empty())
+    fail_expected(file_, root.node("groups"), "groups", "a list of at least one hair group (a map with name, guides, roots...)");
+  std::map<std::string, size_t> names;
+  std::vector<GroomDesc> groups;
+  for (size_t i = 0; i < items.size(); ++i) {
+    YamlMap item(items[i], indexed("groups", i), file_);
+    GroomDesc group = groom;  // the shared source, name, emitter, animation and output
+    group.group_index = int(i);
+    group.group_loc = item.loc();
+    if (!item.given("name"))
+      throw InputError(item.loc(), item.key_path("name") + ": missing required key (the group's name, e.g. brows)");
+    group.group_name = item.string("name");
+    const bool identifier = !group.group_name.empty() && !std::isdigit(static_cast<unsigned char>(group.group_name[0])) &&
+                            std::all_of(group.group_name.begin(), group.group_name.end(), [](unsigned char c) {
+                              return std::isalnum(c) || c == '_';
+                            });
+    if (!identifier || group.group_name.size() > 64)
+      fail_expected(file_, item.node("name"), item.key_path("name"),
+                    "a name of at most 64 ASCII letters, digits and _, not starting with a digit (it names the "
+                    "group's USD prim and files)");
+    const auto [first, inserted] = names.emplace(group.group_name, i);
+    if (!inserted)
+      fail_expected(file_, item.node("name"), item.key_path("name"),
+                    "a name no other group has (groups[" + std::to_string(first->second) + "] is \"" + group.group_name + "\")");
+    forbid(item, "feathers", "in a hair group (hair groups grow strands)");
+    read_group(item, group);
+    item.finish();
+    groups.push_back(std::move(group));
+  }
+  root.finish();
+  groom = groups.front();
+  groom.groups = std::move(groups);
 }
 
 GroomDesc GroomReader::read(const YAML::Node &document) {
@@ -635,33 +747,12 @@ GroomDesc GroomReader::read(const YAML::Node &document) {
   }
   groom.name = root.string("name", stem);
 
-  read_emitter(root, groom);
-
-  if (!root.given("guides")) throw InputError(root.loc(), "guides: missing required key (a map with file)");
-  YamlMap guides = root.map("guides");
-  if (!guides.given("file"))
-    throw InputError(guides.loc(), "guides.file: missing required key (a .hair, .ply, .usda or .obj path)");
-  groom.guides_path = existing_file(guides, "file", {".hair", ".ply", ".usda", ".obj"});
-  groom.guides_loc = guides.loc("file");
-  guides.finish();
-
-  if (root.given("feathers")) {
-    // A feather groom: its follicles, templates and stems say where and what grows.
-    for (const char *key : {"roots", "strands", "interpolation", "partings", "effects"})
-      forbid(root, key, "in a feather groom (feathers.follicles places the feathers)");
-    groom.feathers = read_feathers_section(root.node("feathers"), file_, folder_.string());
-    set_feather_dynamics_defaults(groom.dynamics);
-  } else {
-    read_roots(root, groom);
-    read_strands(root, groom);
-    read_interpolation(root, groom);
-    read_partings(root, groom);
-    const std::vector<YAML::Node> effects = root.sequence("effects");
-    for (size_t i = 0; i < effects.size(); ++i) groom.effects.push_back(read_effect(effects[i], indexed("effects", i)));
+  if (root.given("groups")) {
+    read_groups(root, groom);
+    return groom;
   }
-
-  read_dynamics(root, groom);
-  read_controls_section(root, file_, groom);
+  read_emitter(root, groom);
+  read_group(root, groom);
   read_output(root, groom);
   root.finish();
   return groom;
@@ -689,9 +780,57 @@ GroomDesc read_groom_file(const std::string &path) {
   return GroomReader(path).read(document);
 }
 
-std::string describe_groom(const GroomDesc &groom) {
+namespace {
+
+/// The lines describe_groom() gives for one hair group (guides to controls), each after `indent`.
+std::string describe_group(const GroomDesc &groom, const std::string &indent) {
   static const char *methods[] = {"streamline", "fur", "linear"};
   static const char *effect_names[] = {"clump", "tension", "length", "wave", "frizz", "curl"};
+  std::ostringstream out;
+  out << indent << "guides: " << groom.guides_path << "\n";
+  if (groom.feathers.enabled) {
+    std::istringstream lines(describe_feathers(groom.feathers));
+    for (std::string line; std::getline(lines, line);) out << indent << line << "\n";
+  } else {
+    const RootSettings &r = groom.roots;
+    if (r.source == RootSettings::Source::file) {
+      out << indent << "roots: from " << r.file << "\n";
+    } else {
+      out << indent << "roots: ";
+      if (r.count > 0) out << r.count << " scattered";
+      else out << format_number(r.density) << " per unit area";
+      if (!r.groups.empty()) out << " on " << join(r.groups, ", ");
+      if (r.near_guides > 0.0) out << ", within " << format_number(r.near_guides) << " of a guide root";
+      out << ", seed " << r.seed << "\n";
+    }
+    out << indent << "strands: " << groom.points_per_strand << " points, width " << format_number(groom.width_root)
+        << " to " << format_number(groom.width_tip) << "\n";
+    const InterpolationSettings &s = groom.interpolation;
+    out << indent << "interpolation: " << methods[int(s.method)] << ", k " << s.k << ", falloff "
+        << format_number(s.falloff) << ", skin margin " << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
+    const PartingSettings &p = groom.partings;
+    static const char *zone_sources[] = {"none", "face groups", "zone map", "hard lines"};
+    out << indent << "partings: zones " << zone_sources[int(p.zone_source)] << ", " << p.lines.size() << " lines\n";
+    out << indent << "effects:";
+    if (groom.effects.empty()) out << " none";
+    for (const EffectDesc &e : groom.effects) out << " " << effect_names[int(e.type)] << "(" << format_number(e.amount) << ")";
+    out << "\n";
+  }
+  const DynamicsSettings &d = groom.dynamics;
+  if (d.enabled)
+    out << indent << "dynamics: " << d.substeps << " substeps at " << format_number(d.fps) << " fps, " << d.shapes.size()
+        << " collision shapes" << (d.collide_with_emitter ? " + emitter" : "") << "\n";
+  else
+    out << indent << "dynamics: off\n";
+  if (!groom.controls.empty())
+    out << indent << "controls: " << groom.controls.controls.size() << ", "
+        << (groom.controls.binding == ControlSettings::Binding::nearest ? "nearest" : "blended") << " binding\n";
+  return out.str();
+}
+
+}  // namespace
+
+std::string describe_groom(const GroomDesc &groom) {
   std::ostringstream out;
   out << "groom: " << groom.name << " (" << groom.source << ")\n";
   out << "emitter: " << groom.emitter_path;
@@ -700,46 +839,22 @@ std::string describe_groom(const GroomDesc &groom) {
     case EmitterAnimation::Kind::obj_sequence: out << ", sequence " << groom.animation.sequence_pattern << "\n"; break;
     case EmitterAnimation::Kind::rigid: out << ", " << groom.animation.keys.size() << " rigid keys\n"; break;
   }
-  out << "guides: " << groom.guides_path << "\n";
-  if (groom.feathers.enabled) {
-    out << describe_feathers(groom.feathers);
+  if (groom.groups.empty()) {
+    out << describe_group(groom, "");
   } else {
-    const RootSettings &r = groom.roots;
-    if (r.source == RootSettings::Source::file) {
-      out << "roots: from " << r.file << "\n";
-    } else {
-      out << "roots: ";
-      if (r.count > 0) out << r.count << " scattered";
-      else out << format_number(r.density) << " per unit area";
-      if (!r.groups.empty()) out << " on " << join(r.groups, ", ");
-      if (r.near_guides > 0.0) out << ", within " << format_number(r.near_guides) << " of a guide root";
-      out << ", seed " << r.seed << "\n";
+    std::vector<std::string> names;
+    for (const GroomDesc &group : groom.groups) names.push_back(group.group_name);
+    out << "groups: " << groom.groups.size() << " (" << join(names, ", ") << ")\n";
+    for (const GroomDesc &group : groom.groups) {
+      out << "group " << group.group_name << " (groom_group_id " << group.group_index << "):\n";
+      out << describe_group(group, "  ");
     }
-    out << "strands: " << groom.points_per_strand << " points, width " << format_number(groom.width_root) << " to "
-        << format_number(groom.width_tip) << "\n";
-    const InterpolationSettings &s = groom.interpolation;
-    out << "interpolation: " << methods[int(s.method)] << ", k " << s.k << ", falloff " << format_number(s.falloff)
-        << ", skin margin " << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
-    const PartingSettings &p = groom.partings;
-    static const char *zone_sources[] = {"none", "face groups", "zone map", "hard lines"};
-    out << "partings: zones " << zone_sources[int(p.zone_source)] << ", " << p.lines.size() << " lines\n";
-    out << "effects:";
-    if (groom.effects.empty()) out << " none";
-    for (const EffectDesc &e : groom.effects) out << " " << effect_names[int(e.type)] << "(" << format_number(e.amount) << ")";
-    out << "\n";
   }
-  const DynamicsSettings &d = groom.dynamics;
-  if (d.enabled)
-    out << "dynamics: " << d.substeps << " substeps at " << format_number(d.fps) << " fps, " << d.shapes.size()
-        << " collision shapes" << (d.collide_with_emitter ? " + emitter" : "") << "\n";
-  else
-    out << "dynamics: off\n";
-  if (!groom.controls.empty())
-    out << "controls: " << groom.controls.controls.size() << ", "
-        << (groom.controls.binding == ControlSettings::Binding::nearest ? "nearest" : "blended") << " binding\n";
   const OutputSettings &o = groom.output;
   out << "output: " << (o.path_pattern.empty() ? "(none)" : o.path_pattern)
       << ", frames " << (o.frames.empty() ? "1" : o.frames) << "\n";
+  out << "units: " << format_number(o.meters_per_unit) << " metres per unit, up axis " << o.up_axis << "\n";
+  if (!o.stage_path.empty()) out << "stage: " << o.stage_path << "\n";
   if (!o.vanes_pattern.empty()) out << "vanes: " << o.vanes_pattern << "\n";
   return out.str();
 }

@@ -1,7 +1,10 @@
 // One reader and one writer per strand format; read_strands/write_strands choose between them.
 #pragma once
 
+#include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "groom/strand_set.h"
 #include "io/atomic_file.h"
@@ -12,6 +15,8 @@ namespace plume::io::detail {
 StrandSet read_hair(const std::string &path);
 StrandSet read_ply(const std::string &path);
 StrandSet read_usda(const std::string &path);
+/// Each BasisCurves prim of a .usda: its name and its strands, in file order.
+std::vector<std::pair<std::string, StrandSet>> read_usda_prims(const std::string &path);
 StrandSet read_obj_strands(const std::string &path);
 /// read_obj_strands() of `text`, the contents of `path`.
 StrandSet read_obj_strands_text(const std::string &path, const std::string &text);
@@ -20,6 +25,8 @@ void write_hair(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
 void write_ply(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
 void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
 void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options);
+/// The groups' strands checked (names, counts) by write_strand_groups().
+void write_usda_groups(AtomicFile &file, std::span<const StrandGroup> groups, const StrandWriteOptions &options);
 
 /// Output is built in a buffer and handed to the file in blocks of about this size.
 constexpr size_t kWriteBlockBytes = 1 << 20;

@@ -1,14 +1,14 @@
-// Strands as USD BasisCurves in the text `.usda` encoding, written exactly as ../shared/FORMATS.md
-// lays out (linear curves, widths, GroomAPI, primvars:groom_id, primvars:plume_id, primvars:st,
-// extent), and read back for the same subset: the BasisCurves prim's curveVertexCounts, points (a
-// default value or the first time sample), widths (constant, uniform or vertex) and the strand ids.
-//
-// Two per-curve integer primvars, because Unreal's groom importer reads `groom_id` as the hair
-// group of a curve (curves sharing one form a group): `groom_id` holds the group ids, and the
-// 64-bit stable strand ids live in `int64[] primvars:plume_id`.
+// Strands as USD BasisCurves in the text `.usda` encoding, written as ../shared/FORMATS.md lays out
+// (linear curves, widths, GroomAPI, extent) with the per-curve primvars Unreal's groom importer
+// reads (it keeps only primvars named `groom_*`): `groom_group_id` (the hair group) and
+// `groom_root_uv` (the root's UV on the emitter), beside `int64[] primvars:plume_id`, the 64-bit
+// stable strand ids (Unreal's `groom_id` is a 32-bit int). Read back for the same subset: the
+// BasisCurves prim's curveVertexCounts, points (a default value or the first time sample), widths
+// (constant, uniform or vertex) and the strand ids.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "io/file_scan.h"
 #include "io/strand_formats.h"
@@ -163,11 +163,54 @@ struct ArrayValue {
   std::string interpolation;  // from the attribute's metadata, "" when not given
 };
 
+/// What one BasisCurves prim holds.
+struct CurvesPrim {
+  static ArrayValue integer_array() {
+    ArrayValue array;
+    array.integer = true;
+    return array;
+  }
+  static ArrayValue bounded_array(ArrayValue::Bound bound) {
+    ArrayValue array;
+    array.bound = bound;
+    return array;
+  }
+  Token at;  // the prim's name
+  ArrayValue counts = integer_array();
+  ArrayValue points = bounded_array(ArrayValue::Bound::coordinate), widths = bounded_array(ArrayValue::Bound::width);
+  ArrayValue plume_ids = integer_array(), groom_ids = integer_array();
+};
+
 class UsdaReader {
  public:
   explicit UsdaReader(const std::string &path) : path_(path), text_(read_file_bytes(path)) {}
 
   StrandSet read() {
+    parse();
+    StrandSet strands = build(prims_[0]);
+    for (size_t i = 1; i < prims_.size(); ++i) {
+      const StrandSet more = build(prims_[i]);
+      const int64_t base = strands.offsets.back();
+      for (size_t s = 1; s < more.offsets.size(); ++s) strands.offsets.push_back(base + more.offsets[s]);
+      strands.positions.insert(strands.positions.end(), more.positions.begin(), more.positions.end());
+      if (strands.widths.empty() != more.widths.empty())
+        fail(prims_[i].at, "BasisCurves: expected widths on every BasisCurves prim or on none");
+      strands.widths.insert(strands.widths.end(), more.widths.begin(), more.widths.end());
+      strands.ids.insert(strands.ids.end(), more.ids.begin(), more.ids.end());
+    }
+    return strands;
+  }
+
+  /// Each BasisCurves prim's name and strands, in file order.
+  std::vector<std::pair<std::string, StrandSet>> read_prims() {
+    parse();
+    std::vector<std::pair<std::string, StrandSet>> prims;
+    for (const CurvesPrim &prim : prims_) prims.emplace_back(std::string(prim.at.text), build(prim));
+    return prims;
+  }
+
+ private:
+  void parse() {
     const size_t first_newline = text_.find('\n');
     std::string_view first_line = std::string_view(text_).substr(0, first_newline);
     if (!first_line.empty() && first_line.back() == '\r') first_line.remove_suffix(1);
@@ -176,12 +219,9 @@ class UsdaReader {
     UsdaLexer lexer(text_, path_, first_newline == std::string::npos ? text_.size() : first_newline + 1, 2);
     if (is_punct(lexer.peek(), '(')) skip_group(lexer);
     while (lexer.peek().kind != TokenKind::End) parse_prim(lexer);
-    if (!curves_found_)
-      throw InputError(FileLoc{path_}, "expected a BasisCurves prim, found none");
-    return build();
+    if (prims_.empty()) throw InputError(FileLoc{path_}, "expected a BasisCurves prim, found none");
   }
 
- private:
   /// Skips a balanced (...), [...] or {...} group starting at the next token.
   static void skip_group(UsdaLexer &lexer) {
     const Token open = lexer.next();
@@ -213,9 +253,8 @@ class UsdaReader {
     lexer.expect_punct('{', "prim \"" + std::string(name.text) + "\"");
     const bool is_curves = type == "BasisCurves";
     if (is_curves) {
-      if (curves_found_) lexer.fail(name, "expected one BasisCurves prim, found a second one");
-      curves_found_ = true;
-      curves_at_ = name;
+      prims_.emplace_back();
+      prims_.back().at = name;
     }
     for (;;) {
       const Token &token = lexer.peek();
@@ -250,11 +289,12 @@ class UsdaReader {
     ArrayValue *target = nullptr;
     int tuple = 1;
     if (capture) {
-      if (name.text == "curveVertexCounts") target = &counts_;
-      else if (name.text == "points" || name.text == "points.timeSamples") target = &points_, tuple = 3;
-      else if (name.text == "widths") target = &widths_;
-      else if (name.text == "primvars:plume_id") target = &plume_ids_;
-      else if (name.text == "primvars:groom_id") target = &groom_ids_;
+      CurvesPrim &prim = prims_.back();
+      if (name.text == "curveVertexCounts") target = &prim.counts;
+      else if (name.text == "points" || name.text == "points.timeSamples") target = &prim.points, tuple = 3;
+      else if (name.text == "widths") target = &prim.widths;
+      else if (name.text == "primvars:plume_id") target = &prim.plume_ids;
+      else if (name.text == "primvars:groom_id") target = &prim.groom_ids;
     }
     if (target && target->present) lexer.fail(name, std::string(name.text) + ": expected one value, found a second");
     if (is_punct(lexer.peek(), '=')) {
@@ -383,7 +423,10 @@ class UsdaReader {
     throw InputError(FileLoc{path_, at.line, at.column}, message);
   }
 
-  StrandSet build() const {
+  StrandSet build(const CurvesPrim &prim) const {
+    const ArrayValue &counts_ = prim.counts, &points_ = prim.points, &widths_ = prim.widths;
+    const ArrayValue &plume_ids_ = prim.plume_ids, &groom_ids_ = prim.groom_ids;
+    const Token &curves_at_ = prim.at;
     if (!counts_.present) fail(curves_at_, "BasisCurves: expected int[] curveVertexCounts, found none");
     if (!points_.present) fail(curves_at_, "BasisCurves: expected point3f[] points, found none");
     const size_t point_num = points_.values.size() / 3;
@@ -444,53 +487,58 @@ class UsdaReader {
 
   std::string path_;
   std::string text_;
-  bool curves_found_ = false;
-  Token curves_at_;
-  static ArrayValue integer_array() {
-    ArrayValue array;
-    array.integer = true;
-    return array;
-  }
-  static ArrayValue bounded_array(ArrayValue::Bound bound) {
-    ArrayValue array;
-    array.bound = bound;
-    return array;
-  }
-  ArrayValue counts_ = integer_array();
-  ArrayValue points_ = bounded_array(ArrayValue::Bound::coordinate), widths_ = bounded_array(ArrayValue::Bound::width);
-  ArrayValue plume_ids_ = integer_array(), groom_ids_ = integer_array();
+  std::vector<CurvesPrim> prims_;  // every BasisCurves prim, in file order
 };
 
 // ---------------------------------------------------------------------------------------------
 // Writing
 
-void append_string_literal(std::string &out, std::string_view text) {
-  out += '"';
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += c;
-  }
-  out += '"';
-}
-
-void append_tuple(std::string &out, const float *values, int n) {
-  out += '(';
-  for (int k = 0; k < n; ++k) {
-    if (k > 0) out += ", ";
-    append_number(out, values[k]);
-  }
-  out += ')';
-}
 
 }  // namespace
 
 StrandSet read_usda(const std::string &path) { return UsdaReader(path).read(); }
 
-void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options) {
+std::vector<std::pair<std::string, StrandSet>> read_usda_prims(const std::string &path) {
+  return UsdaReader(path).read_prims();
+}
+
+namespace {
+
+/// The layer header: doc, defaultPrim, metersPerUnit, upAxis and, with a time code, the layer's
+/// time range and rate; then the Groom Xform opens.
+void append_layer_header(std::string &out, const StrandWriteOptions &options) {
+  out += "#usda 1.0\n(\n";
+  if (!options.comment.empty()) {
+    out += "    doc = ";
+    append_string_literal(out, options.comment);
+    out += '\n';
+  }
+  out += "    defaultPrim = \"Groom\"\n    metersPerUnit = ";
+  append_number(out, options.meters_per_unit);
+  out += "\n    upAxis = ";
+  append_string_literal(out, options.up_axis);
+  out += '\n';
+  if (options.time_code) {
+    for (const char *key : {"startTimeCode", "endTimeCode"}) {
+      out += std::string("    ") + key + " = ";
+      append_number(out, *options.time_code);
+      out += '\n';
+    }
+    out += "    timeCodesPerSecond = ";
+    append_number(out, options.fps);
+    out += '\n';
+  }
+  out += ")\n\n";
+  out += "def Xform \"Groom\" (\n    kind = \"component\"\n    prepend apiSchemas = [\"GroomAPI\"]\n)\n{\n";
+}
+
+/// One BasisCurves prim `name` under the Groom: linear curves, points (a time sample at the time
+/// code, when there is one), vertex widths, extent, and the per-curve primvars Unreal reads
+/// (`groom_group_id`, `groom_root_uv`) beside Plume's 64-bit stable ids (`plume_id`).
+/// `group_ids` and `root_uvs` are empty or one per strand (checked by the caller).
+void append_curves_prim(AtomicFile &file, std::string &out, const std::string &name, const StrandSet &strands,
+                        std::span<const int32_t> group_ids, std::span<const Eigen::Vector2f> root_uvs,
+                        const StrandWriteOptions &options) {
   const size_t strand_num = strands.strand_count();
   const bool has_widths = !strands.widths.empty();
   // Stable ids are 64-bit ((face << 24) | j); USD has no unsigned 64-bit primvar, so int64.
@@ -512,30 +560,9 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   lo -= pad;
   hi += pad;
 
-  std::string out;
-  out.reserve(kWriteBlockBytes + 256);
-  out += "#usda 1.0\n(\n";
-  if (!options.comment.empty()) {
-    out += "    doc = ";
-    append_string_literal(out, options.comment);
-    out += '\n';
-  }
-  out += "    defaultPrim = \"Groom\"\n    metersPerUnit = ";
-  append_number(out, options.meters_per_unit);
-  out += "\n    upAxis = \"Y\"\n";
-  if (options.time_code) {
-    for (const char *key : {"startTimeCode", "endTimeCode"}) {
-      out += std::string("    ") + key + " = ";
-      append_number(out, *options.time_code);
-      out += '\n';
-    }
-    out += "    timeCodesPerSecond = ";
-    append_number(out, options.fps);
-    out += '\n';
-  }
-  out += ")\n\n";
-  out += "def Xform \"Groom\" (\n    kind = \"component\"\n    prepend apiSchemas = [\"GroomAPI\"]\n)\n{\n";
-  out += "    def BasisCurves \"hair\"\n    {\n";
+  out += "    def BasisCurves ";
+  append_string_literal(out, name);
+  out += "\n    {\n";
   out += "        uniform token type = \"linear\"\n";
   out += "        uniform token wrap = \"nonperiodic\"\n";
 
@@ -590,10 +617,10 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   append_tuple(out, extent + 3, 3);
   out += options.time_code ? "],\n        }\n" : "]\n";
 
-  out += "        int[] primvars:groom_id = [";
+  out += "        int[] primvars:groom_group_id = [";
   for (size_t s = 0; s < strand_num; ++s) {
     if (s > 0) out += ", ";
-    append_number(out, (long long)(options.group_ids.empty() ? 0 : options.group_ids[s]));
+    append_number(out, (long long)(group_ids.empty() ? 0 : group_ids[s]));
     flush_block_if_full(file, out);
   }
   out += "] (\n            interpolation = \"uniform\"\n        )\n";
@@ -606,16 +633,39 @@ void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOpt
   }
   out += "] (\n            interpolation = \"uniform\"\n        )\n";
 
-  if (!options.root_uvs.empty()) {
-    out += "        texCoord2f[] primvars:st = [";
+  if (!root_uvs.empty()) {
+    out += "        texCoord2f[] primvars:groom_root_uv = [";
     for (size_t s = 0; s < strand_num; ++s) {
       if (s > 0) out += ", ";
-      append_tuple(out, options.root_uvs[s].data(), 2);
+      append_tuple(out, root_uvs[s].data(), 2);
       flush_block_if_full(file, out);
     }
     out += "] (\n            interpolation = \"uniform\"\n        )\n";
   }
-  out += "    }\n}\n";
+  out += "    }\n";
+}
+
+}  // namespace
+
+void write_usda(AtomicFile &file, const StrandSet &strands, const StrandWriteOptions &options) {
+  std::string out;
+  out.reserve(kWriteBlockBytes + 256);
+  append_layer_header(out, options);
+  append_curves_prim(file, out, "hair", strands, options.group_ids, options.root_uvs, options);
+  out += "}\n";
+  file.write(out);
+}
+
+void write_usda_groups(AtomicFile &file, std::span<const StrandGroup> groups, const StrandWriteOptions &options) {
+  std::string out;
+  out.reserve(kWriteBlockBytes + 256);
+  append_layer_header(out, options);
+  std::vector<int32_t> group_ids;
+  for (const StrandGroup &group : groups) {
+    group_ids.assign(group.strands->strand_count(), group.group_id);
+    append_curves_prim(file, out, group.name, *group.strands, group_ids, group.root_uvs, options);
+  }
+  out += "}\n";
   file.write(out);
 }
 

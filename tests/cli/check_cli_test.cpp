@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cli/cli_fixtures.h"
+#include "io/groom_file.h"
 
 using namespace plume::cli_test;
 
@@ -433,21 +434,29 @@ TEST_CASE("every groom in grooms/ on the frames it renders: checked at its pose,
       char name[32];
       std::snprintf(name, sizeof name, "hair.%04d.usda", frame);
       const std::string args = quoted(scratch / name) + " --groom " + quoted(groom) + " --frame " + std::to_string(frame);
-      const JsonCheck json = check_json(args + " --strict", scratch);
-      CHECK(json["inside_skin.points"] == 0);
-      if (info.out.find("\nfeathers: ") != std::string::npos) {
-        // A feather groom's curves: the skin is judged (feather against feather is another check).
-        CHECK(json.exit_code == 0);
-        continue;
+      // A groom of hair groups is checked group by group (--group), each against its description.
+      const plume::GroomDesc desc = plume::io::read_groom_file(groom);
+      std::vector<std::string> groups;
+      for (const plume::GroomDesc &group : desc.groups) groups.push_back(" --group " + group.group_name);
+      if (groups.empty()) groups.push_back("");
+      for (const std::string &group : groups) {
+        INFO(group);
+        const JsonCheck json = check_json(args + group + " --strict", scratch);
+        CHECK(json["inside_skin.points"] == 0);
+        if (info.out.find("\nfeathers: ") != std::string::npos) {
+          // A feather groom's curves: the skin is judged (feather against feather is another check).
+          CHECK(json.exit_code == 0);
+          continue;
+        }
+        CHECK(json["strands_off_groom_roots"] == 0);
+        CHECK(json["zones.cross_zone_influences"] == 0);
+        CHECK(json.exit_code == (json.text("clean") == "true" ? 0 : 3));
+        CHECK((json.leaves.count("violations.0") == 1) == (json.exit_code == 3));
+        WARN(groom << " frame " << frame << ": " << json["crossings.transversal_pairs"] << " transversal and "
+                   << json["crossings.touching_pairs"] << " touching crossing pairs "
+                   << json.text("crossings_judged_on") << ", strands at guide roots over the limit "
+                   << json["guides.over_limit"] << " of " << json["guides.strands_at_guide_roots"]);
       }
-      CHECK(json["strands_off_groom_roots"] == 0);
-      CHECK(json["zones.cross_zone_influences"] == 0);
-      CHECK(json.exit_code == (json.text("clean") == "true" ? 0 : 3));
-      CHECK((json.leaves.count("violations.0") == 1) == (json.exit_code == 3));
-      WARN(groom << " frame " << frame << ": " << json["crossings.transversal_pairs"] << " transversal and "
-                 << json["crossings.touching_pairs"] << " touching crossing pairs "
-                 << json.text("crossings_judged_on") << ", strands at guide roots over the limit "
-                 << json["guides.over_limit"] << " of " << json["guides.strands_at_guide_roots"]);
     }
   }
 }

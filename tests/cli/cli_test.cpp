@@ -51,10 +51,13 @@ TEST_CASE("every groom in grooms/ regrows a frame, and info reads what it wrote"
     CHECK(info.exit_code == 0);
     // A feather groom's 300 follicles grow a rachis and barbs each: more curves than follicles.
     // --strands keeps at most the roots a groom has: a roots file may hold fewer than 300.
+    // A groom of hair groups grows 300 in each group (info reads every group's BasisCurves prim).
     const plume::GroomDesc desc = plume::io::read_groom_file(groom);
-    size_t expected = 300;
-    if (desc.roots.source == plume::RootSettings::Source::file)
-      expected = std::min(expected, plume::io::read_points(desc.roots.file).size());
+    size_t expected = 0;
+    for (const plume::GroomDesc &group : desc.groups.empty() ? std::vector<plume::GroomDesc>{desc} : desc.groups)
+      expected += group.roots.source == plume::RootSettings::Source::file
+                      ? std::min<size_t>(300, plume::io::read_points(group.roots.file).size())
+                      : 300;
     if (read_text(groom).find("\nfeathers:") == std::string::npos)
       CHECK(info.out.find("strands    " + std::to_string(expected)) != std::string::npos);
     CHECK(info.out.find("points per strand") != std::string::npos);
@@ -164,9 +167,12 @@ TEST_CASE("the output does not depend on the thread count", "[cli]") {
       INFO(run.err);
       REQUIRE(run.exit_code == 0);
     }
-    const std::string one = read_text(scratch / "t1.0002.ply");
+    // A groom of hair groups writes a .ply per group: its first group's is compared.
+    const plume::GroomDesc desc = plume::io::read_groom_file(groom);
+    const std::string group = desc.groups.empty() ? "" : "." + desc.groups.front().group_name;
+    const std::string one = read_text(scratch / ("t1" + group + ".0002.ply"));
     REQUIRE(!one.empty());
-    CHECK(one == read_text(scratch / "t2.0002.ply"));
+    CHECK(one == read_text(scratch / ("t2" + group + ".0002.ply")));
   }
 }
 
@@ -303,7 +309,7 @@ TEST_CASE("on a terminal regrow shows frames/s and an ETA on stderr", "[cli]") {
   CHECK(fs::exists(scratch / "h.0003.hair"));
 }
 
-TEST_CASE("regrow writes each root's UV as primvars:st when the emitter has UVs", "[cli]") {
+TEST_CASE("regrow writes each root's UV as primvars:groom_root_uv when the emitter has UVs", "[cli]") {
   ScratchDir scratch("uvs");
   // A unit square in the XZ plane with UVs = (x, z), and two upright guides on it.
   std::ofstream(scratch / "plane.obj") << "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\n"
@@ -319,10 +325,10 @@ TEST_CASE("regrow writes each root's UV as primvars:st when the emitter has UVs"
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
   const std::string usda = read_text(scratch / "h.0001.usda");
-  const size_t st = usda.find("primvars:st");
+  const size_t st = usda.find("texCoord2f[] primvars:groom_root_uv");
   REQUIRE(st != std::string::npos);
   // Five (u, v) pairs, each inside the unit square (the roots are on it).
-  const size_t open = usda.find('[', st), close = usda.find(']', st);
+  const size_t open = usda.find("= [", st) + 2, close = usda.find(']', open);
   REQUIRE(open != std::string::npos);
   const std::string values = usda.substr(open + 1, close - open - 1);
   CHECK(std::count(values.begin(), values.end(), '(') == 5);

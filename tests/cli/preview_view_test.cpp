@@ -343,9 +343,10 @@ TEST_CASE("a groom modelled at another scale previews and is checked the same: n
   };
   const std::string unit = preview(write_groom("unit", 1.0f), "unit.png");
   const Picture reference = read_png(scratch / "unit.png");
-  // The counts, without the tolerance (which scales).
-  const auto counts = [](const std::string &line) {
-    return std::regex_replace(line, std::regex(R"(\(tolerance [^)]*\))"), "");
+  // The counts (the first line: the summary after it names files and times), without the
+  // tolerance (which scales).
+  const auto counts = [](const std::string &text) {
+    return std::regex_replace(text.substr(0, text.find('\n')), std::regex(R"(\(tolerance [^)]*\))"), "");
   };
   for (const float scale : {100.0f, 0.01f}) {
     const std::string name = scale > 1.0f ? "large" : "small";

@@ -32,6 +32,8 @@ struct Bird {
   std::unique_ptr<Coat> coat;
 
   explicit Bird(int64_t follicles = -1, float scale = 1.0f) : groom(io::read_groom_file(kBird + "bird.groom.yaml")) {
+    // The coat's own promises, without the pass that keeps feathers apart (layering_test.cpp).
+    groom.feathers.layers = false;
     rest = io::read_obj_mesh(kBird + "bird.obj");
     StrandSet stem_strands = io::read_strands(kBird + "stems.obj");
     if (scale != 1.0f) {

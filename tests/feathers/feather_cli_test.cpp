@@ -62,11 +62,18 @@ TEST_CASE("a feather frame passes plume check, curves and vane meshes", "[feathe
   CHECK(curves.exit_code == 0);
   CHECK(curves.out.find("feather curves") != std::string::npos);
   CHECK(curves.out.find("points below the skin (margin 0): 0") != std::string::npos);
-  const RunResult vanes =
-      run_plume("check " + quoted(scratch / "v.0013.usda") + " --mesh " + quoted(mesh) + " --strict", scratch);
+  // The vanes: none below the skin; vane against vane is judged too (the bird's groom does not ask
+  // for layers, so its vanes meet, and --strict would fail on them: layering_test.cpp proves layered
+  // coats clean).
+  const RunResult vanes = run_plume("check " + quoted(scratch / "v.0013.usda") + " --mesh " + quoted(mesh), scratch);
   INFO(vanes.out << vanes.err);
   CHECK(vanes.exit_code == 0);
   CHECK(vanes.out.find("points below the skin (margin 0): 0") != std::string::npos);
+  CHECK(vanes.out.find("feather pairs whose vanes meet: ") != std::string::npos);
+  const RunResult vanes_json = run_plume(
+      "check " + quoted(scratch / "v.0013.usda") + " --mesh " + quoted(mesh) + " --strict --json", scratch);
+  CHECK(vanes_json.out.find("\"vane_pairs\": {\"feather_pairs\": ") != std::string::npos);
+  CHECK(vanes_json.exit_code == (vanes_json.out.find("\"feather_pairs\": 0,") != std::string::npos ? 0 : 3));
   // The same vanes against the rest pose, where the left wing is folded back along the body: the open
   // wing's vanes pass through the body there, and the check finds them.
   const RunResult rest = run_plume("check " + quoted(scratch / "v.0013.usda") + " --groom " + quoted(kBird) +

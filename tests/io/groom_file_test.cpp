@@ -508,7 +508,7 @@ TEST_CASE("groom file rules between keys are errors with key paths", "[io]") {
       {"roots: {count: 10}\ndynamics: {cache: cache/guides.hair}\n", "dynamics.cache", "expected a path with a frame field"},
       {"roots: {count: 10}\noutput: {path: out/hair.####.abc}\n", "output.path", "expected a path ending in .usda, .hair, .ply, .obj"},
       {"roots: {count: 10}\noutput: {preview: out/p.jpg}\n", "output.preview", "expected a path ending in .png"},
-      {"roots: {count: 10}\noutput: {frames: 48-1}\n", "output.frames", "expected a frame range A, A-B or A-B:S"},
+      {"roots: {count: 10}\noutput: {frames: 48-1}\n", "output.frames", "expected a frame range A, A-B, A-B:S or A-BxS"},
       {"roots: {count: 10}\noutput: {frames: 1-48:0}\n", "output.frames", "expected a frame range"},
       {"roots: {count: 10}\noutput: {preview_size: 8}\n", "output.preview_size", "expected a whole number in [16, 8192]"},
   };

@@ -124,10 +124,11 @@ TEST_CASE("the .usda writer lays out the file as FORMATS.md says", "[io]") {
            "float[] widths = [0.2, 0.1, 0.05, 0.4, 0.2] (\n            interpolation = \"vertex\"",
            // extent padded by half the largest width (0.4)
            "float3[] extent.timeSamples = {\n            12: [(-0.2, -0.2, -0.2), (1.2, 2.2, 0.7)],",
-           // groom_id is the hair group (Unreal groups curves by it); the stable ids are always int64
-           "int[] primvars:groom_id = [3, 7] (\n            interpolation = \"uniform\"",
+           // Unreal keeps only primvars named groom_*: the hair group and the root UV; the stable ids
+           // are always int64, as plume_id
+           "int[] primvars:groom_group_id = [3, 7] (\n            interpolation = \"uniform\"",
            "int64[] primvars:plume_id = [10, 11] (\n            interpolation = \"uniform\"",
-           "texCoord2f[] primvars:st = [(0.25, 0.75), (0.5, 0.125)] (\n            interpolation = \"uniform\""}) {
+           "texCoord2f[] primvars:groom_root_uv = [(0.25, 0.75), (0.5, 0.125)] (\n            interpolation = \"uniform\""}) {
     INFO(expected);
     CHECK(text.find(expected) != std::string::npos);
   }
@@ -144,9 +145,20 @@ TEST_CASE("the .usda writer lays out the file as FORMATS.md says", "[io]") {
     CHECK(plain_text.find("point3f[] points = [(0, 0, 0),") != std::string::npos);
     CHECK(plain_text.find("float[] widths = [0.5] (\n            interpolation = \"constant\"") != std::string::npos);
     CHECK(plain_text.find("float3[] extent = [(-0.25, -0.25, -0.25), (1.25, 2.25, 0.75)]") != std::string::npos);
+    CHECK(plain_text.find("upAxis = \"Y\"\n") != std::string::npos);
+    CHECK(plain_text.find("groom_root_uv") == std::string::npos);
+    CHECK(plain_text.find("primvars:groom_id") == std::string::npos);
     CHECK(plain_text.find("primvars:st") == std::string::npos);
-    CHECK(plain_text.find("int[] primvars:groom_id = [0, 0] (\n            interpolation = \"uniform\"") != std::string::npos);
+    CHECK(plain_text.find("int[] primvars:groom_group_id = [0, 0] (\n            interpolation = \"uniform\"") != std::string::npos);
     CHECK(plain_text.find("int64[] primvars:plume_id = [10, 11] (\n            interpolation = \"uniform\"") != std::string::npos);
+  }
+  SECTION("up axis Z") {
+    plume::io::StrandWriteOptions z_up;
+    z_up.up_axis = "Z";
+    plume::io::write_strands(dir.file("z.usda"), strands, z_up);
+    std::ifstream z_in(dir.file("z.usda"));
+    const std::string z_text((std::istreambuf_iterator<char>(z_in)), std::istreambuf_iterator<char>());
+    CHECK(z_text.find("upAxis = \"Z\"\n") != std::string::npos);
   }
   SECTION("group ids must be empty or one per strand") {
     plume::io::StrandWriteOptions one_group;

@@ -2,7 +2,7 @@
 //   node load_feathers_usda.mjs DIR CURVES.usda VANES.usda   (DIR holds tinyusdz/tinyusdz.{js,wasm})
 // Exits non-zero when tinyusdz rejects either file, or when what it parsed is inconsistent: the
 // curves' counts and points, vertex widths and texture coordinates (st, st_vane), one feather_id,
-// feather_part, feather_template, groom_id and plume_id per curve; the vanes' triangles, indices within
+// feather_part, feather_template, groom_group_id and plume_id per curve; the vanes' triangles, indices within
 // the points, vertex st and st_barb, one feather_id and feather_template per face.
 import fs from 'node:fs';
 import path from 'node:path';
@@ -50,7 +50,7 @@ if (numbers(arrayOf(curves, 'float[] widths')).length !== pointNum) fail('widths
 for (const st of ['texCoord2f[] primvars:st', 'texCoord2f[] primvars:st_vane'])
   if (tuples(arrayOf(curves, st)) !== pointNum) fail(`${st}: expected one per point`);
 for (const primvar of ['int64[] primvars:feather_id', 'int64[] primvars:plume_id', 'int[] primvars:feather_part',
-                       'int[] primvars:feather_template', 'int[] primvars:groom_id'])
+                       'int[] primvars:feather_template', 'int[] primvars:groom_group_id'])
   if (numbers(arrayOf(curves, primvar)).length !== counts.length) fail(`${primvar}: expected one per curve`);
 const parts = new Set(numbers(arrayOf(curves, 'int[] primvars:feather_part')));
 if (![...parts].every((p) => p >= 0 && p <= 5)) fail('feather_part: expected values 0 to 5');

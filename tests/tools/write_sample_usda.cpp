@@ -2,7 +2,7 @@
 //   write_sample_usda GUIDES.hair OUT_DIR
 // OUT_DIR/guides.usda: the guides as read, per-vertex widths, no time code, every strand in group 0.
 // OUT_DIR/animated.usda: 30 strands x 5 points at time code 12, constant width, root UVs, three
-// hair groups of 10 strands (groom_id) and stable ids beyond 32 bits (int64 plume_id).
+// hair groups of 10 strands (groom_group_id) and stable ids beyond 32 bits (int64 plume_id).
 #include <cstdio>
 #include <string>
 

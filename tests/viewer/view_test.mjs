@@ -216,42 +216,44 @@ const budgetStrands = Math.floor((BUDGET - SAMPLED_FRAMES * (manifest.skin.verte
 check(s.sample && s.total === STRANDS && s.shown === budgetStrands && budgetStrands > 0 && budgetStrands < STRANDS,
   `a page over its budget shows a sample: ${s.shown} of ${s.total} strands, the ${budgetStrands} its ${BUDGET} points leave`);
 
-// ---- Feathers' vanes, in the page format's slot for them: the page above with a vane mesh added
-// by hand (a fan of quads above the head, moving with the frames).
-const withVanes = join(work, 'vanes.html');
+// ---- Feathers: a page of the shipped bird (its curves as the strands, its stems as the guides,
+// its vanes as a mesh), read against the vane meshes plume regrow writes for the same frames (OBJ,
+// read by a reader written here), and the curves against its .hair files.
+const withVanes = join(work, 'bird.html');
 {
-  const data = Buffer.from(html.match(/id="plume-data">([^<]*)</)[1], 'base64');
-  const scene = JSON.parse(html.match(/id="plume-scene">([^<]*)</)[1]);
-  const chunks = [data];
-  let size = data.length;
-  const add = (typed, type) => {
-    const pad = (8 - (size % 8)) % 8;
-    chunks.push(Buffer.alloc(pad));
-    size += pad;
-    scene.buffers.push({ type, offset: size, length: typed.length });
-    chunks.push(Buffer.from(typed.buffer, typed.byteOffset, typed.byteLength));
-    size += typed.byteLength;
-    return scene.buffers.length - 1;
-  };
-  const vaneCount = 12, triangles = [];
-  for (let v = 0; v < vaneCount; ++v) triangles.push(4 * v, 4 * v + 1, 4 * v + 2, 4 * v, 4 * v + 2, 4 * v + 3);
-  const box = scene.bounds, top = box.max[1] + 1, cx = (box.min[0] + box.max[0]) / 2, cz = (box.min[2] + box.max[2]) / 2;
-  const vanePositions = scene.frames.map((frame, f) => {
-    const p = [];
-    for (let v = 0; v < vaneCount; ++v) {
-      const a = (2 * Math.PI * v) / vaneCount + 0.05 * f, b = a + 0.3;
-      p.push(cx, top, cz, cx + 8 * Math.cos(a), top + 2, cz + 8 * Math.sin(a),
-        cx + 8 * Math.cos(b), top + 2, cz + 8 * Math.sin(b), cx + 4 * Math.cos(b), top + 1, cz + 4 * Math.sin(b));
+  const bird = join(dirname(resolve(args.groom)), '../bird/bird.groom.yaml');
+  const FEATHERS = 120, BIRD_FRAMES = [1, 24];
+  plume('view', bird, '--frames', '1-24:23', '--strands', String(FEATHERS), '--out', withVanes);
+  plume('regrow', bird, '--frames', '1-24:23', '--strands', String(FEATHERS), '--out', join(work, 'bird.####.hair'),
+    '--vanes', join(work, 'vanes.####.obj'), '--preview-every', '0');
+  const readObj = (path) => {
+    const v = [], f = [];
+    for (const line of readFileSync(path, 'utf8').split('\n')) {
+      const w = line.trim().split(/\s+/);
+      if (w[0] === 'v') v.push(Number(w[1]), Number(w[2]), Number(w[3]));
+      else if (w[0] === 'f') f.push(...w.slice(1).map((x) => Number(x.split('/')[0]) - 1));
     }
-    return add(new Float32Array(p), 'f32');
+    return { v, f };
+  };
+  const birdPage = readPage(withVanes);
+  const vanes = birdPage.manifest.vanes;
+  check(vanes && vanes.positions.length === BIRD_FRAMES.length, `the bird's page holds vanes on its ${BIRD_FRAMES.length} frames`);
+  BIRD_FRAMES.forEach((frame, index) => {
+    const obj = readObj(join(work, `vanes.${String(frame).padStart(4, '0')}.obj`));
+    const tris = birdPage.arrays[vanes.triangles], pos = birdPage.arrays[vanes.positions[index]];
+    let worst = 0;
+    for (let i = 0; i < pos.length && pos.length === obj.v.length; ++i) worst = Math.max(worst, Math.abs(pos[i] - obj.v[i]));
+    const sameTriangles = tris.length === obj.f.length && tris.every((t, i) => t === obj.f[i]);
+    check(sameTriangles && pos.length === obj.v.length && pos.length > 0 && worst < 1e-4,
+      `frame ${frame}: the page's ${tris.length / 3} vane triangles and ${pos.length / 3} vertices are plume regrow's (largest difference ${worst.toExponential(1)})`);
+    const hair = readHair(join(work, `bird.${String(frame).padStart(4, '0')}.hair`));
+    const curves = birdPage.arrays[birdPage.manifest.strands.positions[index]];
+    check(birdPage.manifest.strands.total === hair.hairs && curves.length === hair.positions.length &&
+      curves.every((x, i) => Object.is(x, hair.positions[i])),
+    `frame ${frame}: the page's ${birdPage.manifest.strands.total} feather curves are plume regrow's, to the bit`);
   });
-  scene.vanes = { triangles: add(new Uint32Array(triangles), 'u32'), positions: vanePositions };
-  const buffers = JSON.stringify(scene).replace(/</g, '\\u003c');
-  writeFileSync(withVanes, html
-    .replace(/(id="plume-scene">)[^<]*/, () => '$SCENE$')
-    .replace('$SCENE$', 'id="plume-scene">' + buffers)
-    .replace(/(id="plume-data">)[^<]*/, () => '$DATA$')
-    .replace('$DATA$', 'id="plume-data">' + Buffer.concat(chunks).toString('base64')));
+  check(birdPage.manifest.check.frames.every((f) => f.points_inside === 0),
+    "the checker finds no feather point below the bird's skin on the page's frames");
 }
 
 // ---- A damaged page: the data cut short.

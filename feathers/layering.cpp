@@ -1,0 +1,420 @@
+#include "feathers/layering.h"
+
+#include <Eigen/Geometry>
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+
+#include "feathers/coat.h"
+
+namespace plume::feathers {
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+using Triangle = std::array<Vec, 3>;
+
+/// Triangles of a feather are kept apart in groups of this many consecutive ones (a vane row or so),
+/// each with a bounding sphere: the first level of the test.
+constexpr int kGroup = 8;
+
+// Closest distances (Ericson, "Real-Time Collision Detection", 5.1.5 and 5.1.9), squared.
+double point_triangle_squared(const Vec &p, const Triangle &t) {
+  const Vec &a = t[0], &b = t[1], &c = t[2];
+  const Vec ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return ap.squaredNorm();
+  const Vec bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return bp.squaredNorm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (p - (a + d1 / (d1 - d3) * ab)).squaredNorm();
+  const Vec cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return cp.squaredNorm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (p - (a + d2 / (d2 - d6) * ac)).squaredNorm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).squaredNorm();
+  const double sum = va + vb + vc;
+  if (!(sum > 0.0)) return std::min({ap.squaredNorm(), bp.squaredNorm(), cp.squaredNorm()});
+  const double v = vb / sum, w = vc / sum;
+  return (p - (a + ab * v + ac * w)).squaredNorm();
+}
+
+double segment_segment_squared(const Vec &p1, const Vec &q1, const Vec &p2, const Vec &q2) {
+  const Vec d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
+  if (a <= 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  return ((p1 + d1 * s) - (p2 + d2 * t)).squaredNorm();
+}
+
+/// Whether segment pq crosses triangle t (its plane between p and q, the crossing inside t; signed
+/// volumes, so a segment in the triangle's plane never crosses: the distances catch it).
+bool segment_crosses(const Vec &p, const Vec &q, const Triangle &t) {
+  const Vec n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double dp = n.dot(p - t[0]), dq = n.dot(q - t[0]);
+  if ((dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || dp == dq) return false;
+  const Vec x = p + (dp / (dp - dq)) * (q - p);
+  const double s0 = n.dot((t[1] - t[0]).cross(x - t[0])), s1 = n.dot((t[2] - t[1]).cross(x - t[1])),
+               s2 = n.dot((t[0] - t[2]).cross(x - t[2]));
+  return (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0);
+}
+
+/// Whether two triangles intersect or come within sqrt(gap2) of each other. Two triangles that do
+/// not intersect are nearest at a vertex of one against the other or at two edges.
+bool too_close(const Triangle &a, const Triangle &b, double gap2) {
+  for (int k = 0; k < 3; ++k) {
+    if (segment_crosses(a[size_t(k)], a[size_t((k + 1) % 3)], b)) return true;
+    if (segment_crosses(b[size_t(k)], b[size_t((k + 1) % 3)], a)) return true;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (point_triangle_squared(a[size_t(k)], b) < gap2) return true;
+    if (point_triangle_squared(b[size_t(k)], a) < gap2) return true;
+    for (int m = 0; m < 3; ++m)
+      if (segment_segment_squared(a[size_t(k)], a[size_t((k + 1) % 3)], b[size_t(m)], b[size_t((m + 1) % 3)]) < gap2)
+        return true;
+  }
+  return false;
+}
+
+/// A feather's vanes this frame, in double: its triangles outside the root disc, grouped.
+struct FeatherVanes {
+  Vec root = Vec::Zero();
+  double extent = 0.0;  // from the root
+  std::vector<Triangle> triangles;
+  std::vector<Eigen::AlignedBox3d> boxes;  // per triangle
+  std::vector<Vec> centers;  // per group
+  std::vector<double> radii;
+};
+
+FeatherVanes feather_vanes(const CoatFrame &frame, const FeatherRanges &ranges, size_t i, float root_disc) {
+  FeatherVanes f;
+  f.root = frame.root_frames[i].origin.cast<double>();
+  const VaneMesh &v = frame.vanes;
+  const int64_t t0 = ranges.first_triangle[i], t1 = ranges.first_triangle[i + 1];
+  if (t0 == t1) return f;
+  const Vec base = v.positions[size_t(v.triangles[size_t(t0)][0])].cast<double>();
+  double from_base = 0.0;
+  for (int64_t x = ranges.first_vertex[i]; x < ranges.first_vertex[i + 1]; ++x) {
+    const Vec p = v.positions[size_t(x)].cast<double>();
+    from_base = std::max(from_base, (p - base).norm());
+    f.extent = std::max(f.extent, (p - f.root).norm());
+  }
+  const double disc = double(root_disc) * from_base;
+  for (int64_t t = t0; t < t1; ++t) {
+    Triangle tri;
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+      tri[size_t(k)] = v.positions[size_t(v.triangles[size_t(t)][k])].cast<double>();
+      inside = inside && (tri[size_t(k)] - base).norm() <= disc;
+    }
+    if (!inside) {
+      f.triangles.push_back(tri);
+      Eigen::AlignedBox3d box;
+      for (const Vec &p : tri) box.extend(p);
+      f.boxes.push_back(box);
+    }
+  }
+  for (size_t g = 0; g < f.triangles.size(); g += kGroup) {
+    const size_t end = std::min(f.triangles.size(), g + kGroup);
+    Eigen::AlignedBox3d box;
+    for (size_t t = g; t < end; ++t)
+      for (const Vec &p : f.triangles[t]) box.extend(p);
+    const Vec c = box.center();
+    double r = 0.0;
+    for (size_t t = g; t < end; ++t)
+      for (const Vec &p : f.triangles[t]) r = std::max(r, (p - c).norm());
+    f.centers.push_back(c);
+    f.radii.push_back(r);
+  }
+  return f;
+}
+
+/// Pairs of feathers whose spheres (root, extent) meet, found by a sweep along x: per feather, the
+/// others it may touch (sorted).
+std::vector<std::vector<int32_t>> sphere_neighbours(const std::vector<Vec> &roots, const std::vector<double> &extents) {
+  const size_t n = roots.size();
+  std::vector<int32_t> by_x(n);
+  for (size_t i = 0; i < n; ++i) by_x[i] = int32_t(i);
+  std::sort(by_x.begin(), by_x.end(), [&](int32_t a, int32_t b) {
+    return roots[size_t(a)].x() < roots[size_t(b)].x() || (roots[size_t(a)].x() == roots[size_t(b)].x() && a < b);
+  });
+  const double largest = n ? *std::max_element(extents.begin(), extents.end()) : 0.0;
+  std::vector<std::vector<int32_t>> out(n);
+  for (size_t a = 0; a < n; ++a) {
+    const size_t i = size_t(by_x[a]);
+    for (size_t b = a + 1; b < n; ++b) {
+      const size_t j = size_t(by_x[b]);
+      if (roots[j].x() - roots[i].x() > extents[i] + largest) break;
+      if ((roots[j] - roots[i]).norm() <= extents[i] + extents[j]) {
+        out[i].push_back(int32_t(j));
+        out[j].push_back(int32_t(i));
+      }
+    }
+  }
+  for (std::vector<int32_t> &list : out) std::sort(list.begin(), list.end());
+  return out;
+}
+
+}  // namespace
+
+LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges) {
+  const size_t n = ranges.size();
+  std::vector<FeatherVanes> vanes(n);
+  std::vector<Vec> roots(n);
+  std::vector<double> extents(n);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int64_t i = 0; i < int64_t(n); ++i) {
+    vanes[size_t(i)] = feather_vanes(rest, ranges, size_t(i), 0.0f);
+    roots[size_t(i)] = vanes[size_t(i)].root;
+    extents[size_t(i)] = vanes[size_t(i)].extent;
+  }
+  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, extents);
+  // covers[i]: the feathers whose roots i's vanes cover (the ray from the root along the skin
+  // normal meets them, Moller-Trumbore).
+  std::vector<std::vector<int32_t>> covers(n);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int64_t fj = 0; fj < int64_t(n); ++fj) {
+    const size_t j = size_t(fj);
+    const Vec origin = roots[j], direction = rest.root_frames[j].normal().cast<double>();
+    for (const int32_t i : near[j]) {
+      bool hit = false;
+      for (const Triangle &t : vanes[size_t(i)].triangles) {
+        const Vec e1 = t[1] - t[0], e2 = t[2] - t[0], h = direction.cross(e2);
+        const double det = e1.dot(h);
+        if (std::abs(det) < 1e-300) continue;
+        const Vec s = origin - t[0];
+        const double u = s.dot(h) / det;
+        if (u < 0.0 || u > 1.0) continue;
+        const Vec q = s.cross(e1);
+        const double v = direction.dot(q) / det;
+        if (v < 0.0 || u + v > 1.0) continue;
+        const double along = e2.dot(q) / det;
+        if (along > 0.0 && along <= extents[size_t(i)]) {
+          hit = true;
+          break;
+        }
+      }
+      if (hit) {
+#pragma omp critical(plume_layer_covers)
+        covers[size_t(i)].push_back(int32_t(j));
+      }
+    }
+  }
+  LayerOrder order;
+  std::vector<std::vector<int32_t>> covered_by(n);
+  std::vector<int32_t> remaining_covers(n);
+  for (size_t i = 0; i < n; ++i) {
+    std::sort(covers[i].begin(), covers[i].end());
+    order.coverings += int64_t(covers[i].size());
+    remaining_covers[i] = int32_t(covers[i].size());
+    for (const int32_t j : covers[i]) covered_by[size_t(j)].push_back(int32_t(i));
+  }
+  std::set<std::pair<int32_t, int32_t>> ready;
+  for (size_t i = 0; i < n; ++i) ready.emplace(remaining_covers[i], int32_t(i));
+  std::vector<bool> placed(n, false);
+  order.rank.assign(n, -1);
+  while (!ready.empty()) {
+    const auto [count, i] = *ready.begin();
+    ready.erase(ready.begin());
+    if (count > 0)
+      for (const int32_t j : covers[size_t(i)])
+        if (!placed[size_t(j)]) order.broken.emplace_back(i, j);
+    placed[size_t(i)] = true;
+    order.rank[size_t(i)] = int32_t(order.bottom_up.size());
+    order.bottom_up.push_back(i);
+    for (const int32_t k : covered_by[size_t(i)]) {
+      if (placed[size_t(k)]) continue;
+      ready.erase({remaining_covers[size_t(k)], k});
+      ready.emplace(--remaining_covers[size_t(k)], k);
+    }
+  }
+  return order;
+}
+
+LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
+                          const MeshQuery *skin, CoatFrame &r_frame) {
+  const size_t n = ranges.size();
+  LayeringStats stats;
+  if (n == 0) return stats;
+  std::vector<Vec> roots(n);
+  std::vector<double> extents(n);
+  for (size_t i = 0; i < n; ++i) {
+    roots[i] = r_frame.root_frames[i].origin.cast<double>();
+    double extent = 0.0;
+    for (int64_t x = ranges.first_vertex[i]; x < ranges.first_vertex[i + 1]; ++x)
+      extent = std::max(extent, (r_frame.vanes.positions[size_t(x)].cast<double>() - roots[i]).norm());
+    extents[i] = extent;
+  }
+  // Lifting turns a feather about its root, so its sphere holds it at any lift.
+  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, extents);
+  std::vector<int32_t> level(n, 0);
+  int levels = 0;
+  for (const int32_t i : order.bottom_up) {
+    int l = 0;
+    for (const int32_t j : near[size_t(i)])
+      if (order.rank[size_t(j)] < order.rank[size_t(i)]) l = std::max(l, level[size_t(j)] + 1);
+    level[size_t(i)] = l;
+    levels = std::max(levels, l + 1);
+  }
+  std::vector<std::vector<int32_t>> waves(static_cast<size_t>(levels));
+  for (const int32_t i : order.bottom_up) waves[size_t(level[size_t(i)])].push_back(i);
+  stats.waves = levels;
+
+  // Each feather's vanes once it is placed (its wave done): what the feathers above it keep clear of.
+  std::vector<FeatherVanes> placed(n);
+  int64_t lifted = 0, unresolved = 0;
+  float largest = 0.0f;
+  for (const std::vector<int32_t> &wave : waves) {
+#pragma omp parallel for schedule(dynamic, 4) reduction(+ : lifted, unresolved) reduction(max : largest)
+    for (int64_t w = 0; w < int64_t(wave.size()); ++w) {
+      const size_t i = size_t(wave[size_t(w)]);
+      FeatherVanes &mine = placed[i];
+      mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+      if (mine.triangles.empty()) continue;
+      const double gap = double(options.offset) * mine.extent, gap2 = gap * gap;
+      // The lower feathers' groups within reach (placed in earlier waves).
+      std::vector<const FeatherVanes *> lower;
+      for (const int32_t j : near[i])
+        if (order.rank[size_t(j)] < order.rank[i]) lower.push_back(&placed[size_t(j)]);
+      struct Candidate {
+        const FeatherVanes *feather;
+        size_t group;
+      };
+      std::vector<Candidate> candidates;
+      for (const FeatherVanes *f : lower)
+        for (size_t g = 0; g < f->centers.size(); ++g)
+          if ((f->centers[g] - mine.root).norm() <= mine.extent + f->radii[g] + gap) candidates.push_back({f, g});
+      if (candidates.empty()) continue;
+      // The axis: across the shaft (root to vane base), lifting toward the skin normal.
+      const Vec normal = r_frame.root_frames[i].normal().cast<double>();
+      const Vec base = r_frame.vanes.positions[size_t(r_frame.vanes.triangles[size_t(ranges.first_triangle[i])][0])].cast<double>();
+      const Vec shaft = base - mine.root;
+      const Vec axis_raw = shaft.cross(normal);
+      if (!(axis_raw.norm() > 1e-12 * std::max(shaft.norm(), 1e-300))) continue;
+      const Vec axis = axis_raw.normalized();
+      const double max_angle = std::acos(std::clamp(shaft.normalized().dot(normal), -1.0, 1.0));
+      std::vector<Triangle> moved(mine.triangles.size());
+      std::vector<Eigen::AlignedBox3d> moved_boxes(mine.triangles.size());
+      auto conflict = [&](double angle, double scale = 1.0) {
+        const Eigen::Matrix3d turn = scale * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+        for (size_t t = 0; t < mine.triangles.size(); ++t) {
+          moved_boxes[t].setEmpty();
+          for (int v = 0; v < 3; ++v) {
+            moved[t][size_t(v)] = mine.root + turn * (mine.triangles[t][size_t(v)] - mine.root);
+            moved_boxes[t].extend(moved[t][size_t(v)]);
+          }
+        }
+        // No vertex of the turned vanes below the skin (vertices near the root, which leaves the skin
+        // there, excepted as the root disc is).
+        if (skin && (angle > 0.0 || scale != 1.0))
+          for (int64_t x = ranges.first_vertex[i]; x < ranges.first_vertex[i + 1]; ++x) {
+            const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
+            if ((p - mine.root).norm() <= double(options.root_disc) * mine.extent) continue;
+            const Vec q = mine.root + turn * (p - mine.root);
+            if (skin->signed_distance(q.cast<float>()) < 0.0f) return true;
+          }
+        for (size_t g = 0; g < mine.centers.size(); ++g) {
+          const Vec c = mine.root + turn * (mine.centers[g] - mine.root);
+          const size_t end = std::min(mine.triangles.size(), g * kGroup + kGroup);
+          for (const Candidate &k : candidates) {
+            const double reach = mine.radii[g] + k.feather->radii[k.group] + gap;
+            if ((k.feather->centers[k.group] - c).squaredNorm() > reach * reach) continue;
+            const size_t other_end = std::min(k.feather->triangles.size(), k.group * kGroup + kGroup);
+            for (size_t t = g * kGroup; t < end; ++t)
+              for (size_t u = k.group * kGroup; u < other_end; ++u) {
+                const Eigen::AlignedBox3d &a = moved_boxes[t], &b = k.feather->boxes[u];
+                if ((a.min().array() > b.max().array() + gap).any() || (b.min().array() > a.max().array() + gap).any())
+                  continue;
+                if (too_close(moved[t], k.feather->triangles[u], gap2)) return true;
+              }
+          }
+        }
+        return false;
+      };
+      if (!conflict(0.0)) continue;
+      constexpr double kStep = 0.02;  // radians, about 1.1 degrees
+      double below = 0.0, above = -1.0;
+      for (double a = kStep; a < max_angle + kStep; a += kStep) {
+        const double at = std::min(a, max_angle);
+        if (!conflict(at)) {
+          above = at;
+          break;
+        }
+        below = at;
+      }
+      if (above < 0.0) {
+        // No turn clears it (lower feathers stand over its root): unturned, it is shrunk toward its
+        // root until it clears (the largest such size, by bisection), as the skin pass does.
+        double lo = 0.0, hi = 1.0;
+        for (int b = 0; b < 20; ++b) {
+          const double mid = 0.5 * (lo + hi);
+          (conflict(0.0, mid) ? hi : lo) = mid;
+        }
+        const Eigen::Vector3f root = r_frame.root_frames[i].origin;
+        const float scale = float(lo);
+        for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
+          x = root + scale * (x - root);
+        }
+        for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
+          x = root + scale * (x - root);
+        }
+        r_frame.scales[i] *= scale;
+        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+        ++unresolved;
+        continue;
+      }
+      while (above - below > 1e-6) {
+        const double mid = 0.5 * (below + above);
+        (conflict(mid) ? below : above) = mid;
+      }
+      const Eigen::Matrix3f turn = Eigen::AngleAxisd(above, axis).toRotationMatrix().cast<float>();
+      const Eigen::Vector3f root = r_frame.root_frames[i].origin;
+      for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
+        Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
+        x = root + turn * (x - root);
+      }
+      for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
+        Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
+        x = root + turn * (x - root);
+      }
+      r_frame.lifts[i] += float(above);
+      mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+      ++lifted;
+      largest = std::max(largest, float(above));
+    }
+  }
+  stats.lifted = lifted;
+  stats.unresolved = unresolved;
+  stats.largest_lift = largest;
+  return stats;
+}
+
+}  // namespace plume::feathers

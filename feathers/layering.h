@@ -1,0 +1,73 @@
+// Feathers in layers: an order decided once on the rest pose (which feather's vane covers which
+// feather's root), then, every frame, each feather turned up about its root, from the bottom of the
+// order up, until its vanes keep an offset (relative to its size) from every lower feather's vanes.
+// Nothing is carried from frame to frame: a frame depends on its pose only, so a frame regrown alone
+// is the one of a sequential run, and a feather's lift moves as smoothly as the pose that asks for it.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "groom/mesh_query.h"
+
+namespace plume::feathers {
+
+struct CoatFrame;  // feathers/coat.h
+
+/// Where each feather's output lies in a frame: per feather its first curve point and vane vertex
+/// and triangle (feather count + 1 entries each), as Coat lays a frame out.
+struct FeatherRanges {
+  std::span<const int64_t> first_point, first_vertex, first_triangle;
+  size_t size() const { return first_vertex.empty() ? 0 : first_vertex.size() - 1; }
+};
+
+/// The layer order, bottom first, frozen at rest.
+struct LayerOrder {
+  std::vector<int32_t> bottom_up;  // feather indices, bottom first
+  std::vector<int32_t> rank;       // per feather: its place in bottom_up
+  /// Feather i covers feather j when the ray from j's root along the skin normal meets i's vanes
+  /// at rest: i lies above j. Coverings the order could not keep (cycles), as (covering, covered)
+  /// feather indices: the rule that broke them is layer_order_from_coverage's.
+  std::vector<std::pair<int32_t, int32_t>> broken;
+  int64_t coverings = 0;
+};
+
+/// The order from coverage at rest (`rest`, the coat grown on the rest pose without layering).
+/// Kahn's order, bottom up: the next feather is one whose vanes cover no remaining feather's root
+/// (the smallest index among them); when none is left (a cycle), the remaining feather covering the
+/// fewest remaining roots (then the smallest index) goes next, and its coverings of those roots are
+/// broken (reported in `broken`). Deterministic.
+LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges);
+
+struct LayeringOptions {
+  /// The gap kept between a feather's vanes and every lower feather's, as a fraction of the
+  /// feather's extent (the largest distance from its root to its vanes).
+  float offset = 0.002f;
+  /// Triangles within this fraction of their feather's extent from its vane base are where the
+  /// feather leaves the skin among the others: they are not kept apart (the checker's root disc,
+  /// check/vanes.h, is larger).
+  float root_disc = 0.04f;
+};
+
+struct LayeringStats {
+  int64_t lifted = 0;      // feathers turned up
+  int64_t unresolved = 0;  // feathers no turn up to the skin normal could clear: shrunk instead
+  int waves = 0;           // groups of feathers lifted together
+  float largest_lift = 0.0f;  // radians
+};
+
+/// One frame: from the bottom of `order` up, each feather (curves and vanes) turned about the axis
+/// through its root across its shaft (shaft x skin normal) by the smallest angle, up to the skin
+/// normal, at which no vane triangle of it comes within its offset of a lower feather's (triangles
+/// of the root discs apart); that angle is added to r_frame.lifts. Feathers whose bounding spheres
+/// (root, extent) meet no lower one's are independent: they are lifted in parallel, in waves, and
+/// the result does not depend on the thread count.
+/// `skin` (may be null) is the posed skin: a turn that takes a vane vertex below it is refused too.
+LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
+                          const MeshQuery *skin, CoatFrame &r_frame);
+
+}  // namespace plume::feathers

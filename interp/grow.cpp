@@ -342,13 +342,16 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   fine.add(root, band.lower_bound(root));
   Eigen::Vector3f x = root, last = root_normal;
   float nearest = 0.0f;  // the nearest guide's distance at the last point evaluated
+  float shortest_field = 1.0f;  // the bent field's least length over the current step's evaluations
   auto velocity = [&](const Eigen::Vector3f &p) {
     ++stats.evaluations;
     if (partings) partings->foot = band.foot(p);
     const GuideField::Sample sample = field.evaluate(p, scratch.cache, partings);
     nearest = sample.nearest;
     float lower = 0.0f;
-    return unit_or(band.bend(p, sample.direction, lower), last);
+    const Eigen::Vector3f bent = band.bend(p, sample.direction, lower);
+    shortest_field = std::min(shortest_field, bent.norm());
+    return unit_or(bent, last);
   };
   double arc = 0.0;
   // The strand's length is that of its output polyline, whose chords are shorter than the curve:
@@ -359,7 +362,8 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   float h = std::min(step, 0.5f * margin);
   Eigen::Vector3f k1 = velocity(x);
   float nearest_at_x = nearest;
-  for (int64_t s = 0; s < max_steps && arc < grown; ++s) {
+  if (shortest_field < min_field_length) ++stats.ended_strands;
+  for (int64_t s = 0; s < max_steps && arc < grown && shortest_field >= min_field_length; ++s) {
     // The error allowed: `tolerance` far from the guides, shrinking in proportion to the nearest
     // guide's distance down to a hundredth of it, where the field turns fastest (its Lipschitz
     // constant grows as 1 / distance) and a strand near a guide must stay with it.
@@ -369,6 +373,7 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     Eigen::Vector3f next, k4;
     float lower = 0.0f, error = 0.0f;
     for (;;) {
+      shortest_field = 1.0f;
       const Eigen::Vector3f k2 = velocity(x + 0.5f * h * k1);
       const Eigen::Vector3f k3 = velocity(x + 0.75f * h * k2);
       next = x + h * ((2.0f / 9.0f) * k1 + (1.0f / 3.0f) * k2 + (4.0f / 9.0f) * k3);
@@ -386,6 +391,10 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     ++stats.steps;
     const float moved = (next - x).norm();
     if (lower < 0.0f || !(moved > 1e-3f * h)) break;
+    if (shortest_field < min_field_length) {  // the step passed where the field has no direction
+      ++stats.ended_strands;
+      break;
+    }
     last = (next - x) / moved;
     fine.add(next, lower);
     arc += double(moved);
@@ -423,17 +432,18 @@ GrowStats &GrowStats::operator+=(const GrowStats &other) {
   halved_steps += other.halved_steps;
   rejected_steps += other.rejected_steps;
   short_strands += other.short_strands;
+  ended_strands += other.ended_strands;
   return *this;
 }
 
 std::string GrowStats::summary() const {
   const double per_step = steps > 0 ? 1.0 / double(steps) : 0.0;
-  char text[200];
+  char text[256];
   std::snprintf(text, sizeof text,
                 "%.2f field evaluations per step, %.3f skin queries per step; %lld steps rejected, %lld halved, %lld "
-                "strands short",
+                "strands short, %lld ended where the field had no direction",
                 double(evaluations) * per_step, double(skin_queries) * per_step, static_cast<long long>(rejected_steps),
-                static_cast<long long>(halved_steps), static_cast<long long>(short_strands));
+                static_cast<long long>(halved_steps), static_cast<long long>(short_strands), static_cast<long long>(ended_strands));
   return text;
 }
 

@@ -80,6 +80,11 @@ inline constexpr float tolerance_fraction = 1e-2f;
 /// Nearer the guides the error allowed per step is at most this fraction of the nearest guide's
 /// distance (and at least a hundredth of the tolerance).
 inline constexpr float tolerance_per_distance = 1e-3f;
+/// A streamline strand ends where the field, bent by the skin band, is shorter than this (its guides'
+/// tangents cancel, or the skin leaves no way along it): there the unit direction V / |V| is no
+/// longer Lipschitz, and strands arriving from two sides would meet head on (docs/interpolation.md,
+/// "Where a strand ends early").
+inline constexpr float min_field_length = 0.5f;
 
 /// Binds every root to its k nearest guide roots (Euclidean distance on the rest pose, within
 /// settings.radius when > 0; a root with no guide in the radius takes its nearest guide), restricted
@@ -100,6 +105,7 @@ struct GrowStats {
   int64_t skin_queries = 0;  // exact signed-distance queries in the skin band
   int64_t halved_steps = 0;  // steps retried at half length because they ended inside the skin
   int64_t short_strands = 0; // strands that stalled before their length (the field vanished)
+  int64_t ended_strands = 0; // of those, strands ended where the bent field was below min_field_length
 
   /// "4.02 field evaluations per step, 0.31 skin queries per step; 0 steps halved, 0 strands short".
   std::string summary() const;

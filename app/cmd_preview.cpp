@@ -66,8 +66,11 @@ void run_preview(const PreviewArgs &args) {
     summary.print();
   };
   if (groom.feathers.enabled) {
-    run_feather_preview(groom, args.frame, args.out, args.size, args.guides, args.threads, args.strands,
-                        args.guides_cache);
+    if (mode != ColorMode::plain)
+      throw InputError("--color " + args.color + ": a feather groom's preview is drawn plain (colours by guide, " +
+                       "clump, zone and problems are for hair strands)");
+    run_feather_preview(groom, args.frame, path, args.size, args.guides, args.threads, args.strands, args.guides_cache,
+                        {angle, args.turntable, columns});
     done();
     return;
   }

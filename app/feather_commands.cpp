@@ -127,8 +127,8 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
   summary.print();
 }
 
-void run_feather_preview(const GroomDesc &groom, int frame, const std::string &out, int size, bool stems, int threads,
-                         int64_t strands, const std::string &guides_cache) {
+void run_feather_preview(const GroomDesc &groom, int frame, const std::string &path, int size, bool stems, int threads,
+                         int64_t strands, const std::string &guides_cache, const FeatherPreviewViews &views) {
   set_thread_count(threads);
   PipelineOptions options;
   options.strand_count = strands;
@@ -137,11 +137,15 @@ void run_feather_preview(const GroomDesc &groom, int frame, const std::string &o
   FeatherPipeline pipeline(groom, options);
   const FrameRange single{frame, frame, 1};
   pipeline.base().check_frame_inputs(single);
-  const PreviewCamera camera = feather_camera(pipeline.base().rest_mesh(), pipeline.rest_frame().curves.curves);
+  const Eigen::AlignedBox3f bounds = scene_bounds(pipeline.base().rest_mesh(), pipeline.rest_frame().curves.curves);
+  const std::vector<PreviewCamera> cameras = views.turntable > 0 ? turntable_cameras(bounds, views.turntable, views.angle)
+                                                                 : std::vector{fit_camera(bounds, views.angle)};
   const FeatherPipeline::Frame result = pipeline.produce(frame);
-  write_png(expand_frame_pattern(out, frame),
-            render_feather_preview(camera, result.mesh, result.feathers, stems ? &result.stems : nullptr,
-                                   feather_style(size)));
+  std::vector<Image> images;
+  for (const PreviewCamera &camera : cameras)
+    images.push_back(render_feather_preview(camera, result.mesh, result.feathers, stems ? &result.stems : nullptr,
+                                            feather_style(size)));
+  write_png(path, images.size() == 1 ? images.front() : tile_images(images, views.columns));
 }
 
 bool is_vane_mesh_file(const std::string &path) {

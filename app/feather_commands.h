@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "app/preview.h"
 #include "groom/groom_desc.h"
 
 namespace plume {
@@ -35,9 +36,17 @@ struct FeatherRegrowArgs {
 /// output.
 void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args);
 
-/// `plume preview` of a feather groom at `frame`.
-void run_feather_preview(const GroomDesc &groom, int frame, const std::string &out, int size, bool stems, int threads,
-                         int64_t strands, const std::string &guides_cache);
+/// How `plume preview` looks at a feather groom: from `angle`, or with `turntable` > 0 that many
+/// views round it from one distance, tiled `columns` to a row.
+struct FeatherPreviewViews {
+  CameraAngle angle;
+  int turntable = 0;
+  int columns = 1;
+};
+
+/// `plume preview` of a feather groom at `frame`, written to `path` (the frame field already replaced).
+void run_feather_preview(const GroomDesc &groom, int frame, const std::string &path, int size, bool stems, int threads,
+                         int64_t strands, const std::string &guides_cache, const FeatherPreviewViews &views);
 
 /// True when `path` holds vane meshes (a `.usda` with a Mesh prim and no BasisCurves), which the
 /// strand readers do not read.

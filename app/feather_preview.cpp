@@ -22,8 +22,8 @@ Image render_feather_preview(const PreviewCamera &camera, const Mesh &mesh, cons
   return render_preview(camera, scene, feathers.curves.curves, stems, style, paint);
 }
 
-PreviewCamera feather_camera(const Mesh &rest_mesh, const StrandSet &curves) {
-  return fit_camera(scene_bounds(rest_mesh, curves));
+PreviewCamera feather_camera(const Mesh &rest_mesh, const StrandSet &curves, const CameraAngle &angle) {
+  return fit_camera(scene_bounds(rest_mesh, curves), angle);
 }
 
 }  // namespace plume

@@ -16,7 +16,7 @@ Image render_feather_preview(const PreviewCamera &camera, const Mesh &mesh, cons
                              const StrandSet *stems, PreviewStyle style);
 
 /// The preview camera of a feather groom: fitted to the rest emitter and a rest frame's feathers
-/// (`curves`), so that every frame is seen from the same place.
-PreviewCamera feather_camera(const Mesh &rest_mesh, const StrandSet &curves);
+/// (`curves`), so that every frame is seen from the same place, looking from `angle`.
+PreviewCamera feather_camera(const Mesh &rest_mesh, const StrandSet &curves, const CameraAngle &angle = {});
 
 }  // namespace plume

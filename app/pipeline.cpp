@@ -18,6 +18,7 @@
 #include "interp/interpolate.h"
 #include "partings/parting_field.h"
 #include "skin/skin_grid.h"
+#include "skin/skin_guard.h"
 #include "io/control_section.h"
 #include "io/obj_mesh.h"
 #include "io/point_list.h"
@@ -178,6 +179,10 @@ Eigen::Affine3f rigid_pose_at(const EmitterAnimation &animation, double frame) {
 
 Pipeline::Pipeline(const GroomDesc &groom, const PipelineOptions &options) : groom_(groom), options_(options) {
   rest_mesh_ = io::read_obj_mesh(groom_.emitter_path);
+  // Automatic widths: scaled to the emitter.
+  const float auto_root_width = default_width_root_fraction * skin::mesh_scale(rest_mesh_);
+  if (groom_.width_root < 0.0f) groom_.width_root = auto_root_width;
+  if (groom_.width_tip < 0.0f) groom_.width_tip = 0.25f * auto_root_width;
   const MeshQuery rest_query(rest_mesh_);
   guides_ = bind_guides(rest_query, io::read_strands(groom_.guides_path), groom_.guides_path);
   if (guides_.size() == 0) throw InputError(groom_.guides_loc, "guides: " + groom_.guides_path + " holds no strands");
@@ -276,9 +281,8 @@ FrameResult Pipeline::produce(int frame, bool with_effects) {
   // Growth's skin bounds let the stack's closing skin pass skip the points it moved by less; both
   // search the skin through one grid built for this frame.
   std::vector<float> clearance;
-  std::optional<skin::SkinGrid> skin_grid;
-  skin_grid.emplace(result.mesh, query);
-  const skin::SkinGrid *grid = &*skin_grid;
+  const skin::SkinGrid skin_grid(result.mesh, query);
+  const skin::SkinGrid *grid = &skin_grid;
   interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance, grid);
   if (with_effects)
     effects_->apply(result.mesh, query, result.guides, binding_->skin_margin, result.strands, clearance,

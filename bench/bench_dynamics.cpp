@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "dynamics/guide_simulator.h"
+#include "bench_sphere.h"
 #include "groom/guides.h"
 #include "groom/mesh.h"
 #include "groom/mesh_query.h"
@@ -29,31 +30,6 @@ constexpr int kFrames = 12;
 constexpr int kRuns = 3;
 constexpr float kRadius = 10.0f;
 constexpr double kPi = 3.14159265358979;
-
-Mesh sphere(int rings, int segments) {
-  Mesh mesh;
-  mesh.positions.push_back(Eigen::Vector3f(0.0f, kRadius, 0.0f));
-  for (int r = 1; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const float theta = float(kPi) * r / rings, phi = 2.0f * float(kPi) * s / segments;
-      mesh.positions.push_back(kRadius * Eigen::Vector3f(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                                         -std::sin(theta) * std::sin(phi)));
-    }
-  mesh.positions.push_back(Eigen::Vector3f(0.0f, -kRadius, 0.0f));
-  const int bottom = int(mesh.positions.size()) - 1;
-  auto ring = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
-  for (int s = 0; s < segments; ++s) mesh.triangles.emplace_back(0, ring(1, s), ring(1, s + 1));
-  for (int r = 1; r < rings - 1; ++r)
-    for (int s = 0; s < segments; ++s) {
-      mesh.triangles.emplace_back(ring(r, s), ring(r + 1, s), ring(r + 1, s + 1));
-      mesh.triangles.emplace_back(ring(r, s), ring(r + 1, s + 1), ring(r, s + 1));
-    }
-  for (int s = 0; s < segments; ++s) mesh.triangles.emplace_back(bottom, ring(rings - 1, s + 1), ring(rings - 1, s));
-  mesh.triangle_groups.assign(mesh.triangles.size(), 0);
-  mesh.group_names = {"default"};
-  mesh.compute_normals();
-  return mesh;
-}
 
 Mesh shaken(const Mesh &rest, int frame) {
   Mesh posed = rest;
@@ -194,7 +170,7 @@ Figure median(std::vector<Figure> runs) {
 // a clean run to record with a profiler.
 int main(int argc, char **argv) {
   const bool profile_plain = argc > 1 && std::string_view(argv[1]) == "--profile-plain";
-  const Mesh head = sphere(48, 96);
+  const Mesh head = bench::closed_sphere(kRadius, 48, 96);
   const Guides guides = make_guides(head);
   std::vector<Mesh> poses;
   for (int f = 1; f <= kFrames; ++f) poses.push_back(shaken(head, f));

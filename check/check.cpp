@@ -74,22 +74,6 @@ std::string count_text(size_t count, const char *one, const char *many) {
 
 }  // namespace
 
-double median_segment_length(const StrandSet &strands) {
-  std::vector<float> lengths;
-  lengths.reserve(strands.point_count());
-  for (size_t s = 0; s < strands.strand_count(); ++s) {
-    const auto points = strands.points(s);
-    for (size_t j = 1; j < points.size(); ++j) {
-      const float length = (points[j] - points[j - 1]).norm();
-      if (length > 0.0f && std::isfinite(length)) lengths.push_back(length);
-    }
-  }
-  if (lengths.empty()) return 0.0;
-  const auto middle = lengths.begin() + std::ptrdiff_t(lengths.size() / 2);
-  std::nth_element(lengths.begin(), middle, lengths.end());
-  return double(*middle);
-}
-
 float crossing_tolerance_for(const StrandSet &strands, const CheckOptions &options) {
   if (options.crossing_tolerance > 0.0f) return options.crossing_tolerance;
   const float tolerance = float(kToleranceOfMedianSegment * median_segment_length(strands));

@@ -177,9 +177,6 @@ inline constexpr double kCrossingPiecePairsPerSegment = 2000.0;
 /// this many cell entries per piece, before allocating them.
 inline constexpr double kCrossingEntriesPerPiece = 64.0;
 
-/// Median length of the segments of non-zero length (scene units); 0 when there is none.
-double median_segment_length(const StrandSet &strands);
-
 /// The crossing tolerance check_strands uses: `options.crossing_tolerance` when > 0, else
 /// kToleranceOfMedianSegment x median_segment_length(strands). Throws InputError when that is 0
 /// (no segment has a length).

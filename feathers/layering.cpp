@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <mutex>
 #include <set>
+#include <thread>
 
 #include "feathers/coat.h"
 
@@ -87,7 +89,22 @@ bool segment_crosses(const Vec &p, const Vec &q, const Triangle &t) {
 
 /// Whether two triangles intersect or come within sqrt(gap2) of each other. Two triangles that do
 /// not intersect are nearest at a vertex of one against the other or at two edges.
+/// Whether every vertex of `a` lies farther than sqrt(gap2) from b's plane, on one side: then all of
+/// `a` does (a convex combination), and so it is that far from `b`. A slack of 1e-9 of the
+/// triangles' size keeps rounding on the side of testing further.
+bool beyond_plane(const Triangle &a, const Triangle &b, double gap2) {
+  const Vec n = (b[1] - b[0]).cross(b[2] - b[0]);
+  const double n2 = n.squaredNorm();
+  if (!(n2 > 0.0)) return false;
+  const double d0 = n.dot(a[0] - b[0]), d1 = n.dot(a[1] - b[0]), d2 = n.dot(a[2] - b[0]);
+  const double size = (a[0] - b[0]).norm() + (a[1] - a[0]).norm() + (a[2] - a[0]).norm() + (b[1] - b[0]).norm() +
+                      (b[2] - b[0]).norm();
+  const double reach = std::sqrt(gap2 * n2) + 1e-9 * size * std::sqrt(n2);
+  return (d0 > reach && d1 > reach && d2 > reach) || (d0 < -reach && d1 < -reach && d2 < -reach);
+}
+
 bool too_close(const Triangle &a, const Triangle &b, double gap2) {
+  if (beyond_plane(a, b, gap2) || beyond_plane(b, a, gap2)) return false;
   for (int k = 0; k < 3; ++k) {
     if (segment_crosses(a[size_t(k)], a[size_t((k + 1) % 3)], b)) return true;
     if (segment_crosses(b[size_t(k)], b[size_t((k + 1) % 3)], a)) return true;
@@ -110,6 +127,8 @@ struct FeatherVanes {
   std::vector<Eigen::AlignedBox3d> boxes;  // per triangle
   std::vector<Vec> centers;  // per group
   std::vector<double> radii;
+  std::vector<Eigen::AlignedBox3d> group_boxes;  // per group
+  Eigen::AlignedBox3d box;  // all the triangles
 };
 
 FeatherVanes feather_vanes(const CoatFrame &frame, const FeatherRanges &ranges, size_t i, float root_disc) {
@@ -151,8 +170,33 @@ FeatherVanes feather_vanes(const CoatFrame &frame, const FeatherRanges &ranges, 
       for (const Vec &p : f.triangles[t]) r = std::max(r, (p - c).norm());
     f.centers.push_back(c);
     f.radii.push_back(r);
+    f.group_boxes.push_back(box);
+    f.box.extend(box);
   }
   return f;
+}
+
+/// Whether segment pq meets `box` grown by a margin that covers rounding (slabs): false only when
+/// no point of the segment can lie in the box, so a test it skips would have failed.
+bool segment_meets_box(const Vec &p, const Vec &q, const Eigen::AlignedBox3d &box) {
+  if (box.isEmpty()) return false;
+  const double margin = 1e-9 * ((box.max() - box.min()).norm() + (q - p).norm() + p.cwiseAbs().maxCoeff() +
+                                box.max().cwiseAbs().maxCoeff() + box.min().cwiseAbs().maxCoeff());
+  const Vec lo = box.min().array() - margin, hi = box.max().array() + margin;
+  double t0 = 0.0, t1 = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = q[a] - p[a];
+    if (std::abs(d) < 1e-300) {
+      if (p[a] < lo[a] || p[a] > hi[a]) return false;
+      continue;
+    }
+    double u = (lo[a] - p[a]) / d, v = (hi[a] - p[a]) / d;
+    if (u > v) std::swap(u, v);
+    t0 = std::max(t0, u);
+    t1 = std::min(t1, v);
+    if (t0 > t1) return false;
+  }
+  return true;
 }
 
 /// Pairs of feathers whose spheres (root, extent) meet, found by a sweep along x: per feather, the
@@ -203,21 +247,30 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
     const size_t j = size_t(fj);
     const Vec origin = roots[j], direction = rest.root_frames[j].normal().cast<double>();
     for (const int32_t i : near[j]) {
+      const FeatherVanes &f = vanes[size_t(i)];
+      // Only triangles whose boxes the ray's reach (extent) meets can be hit: boxes first.
+      const Vec end = origin + f.extent * direction;
+      if (!segment_meets_box(origin, end, f.box)) continue;
       bool hit = false;
-      for (const Triangle &t : vanes[size_t(i)].triangles) {
-        const Vec e1 = t[1] - t[0], e2 = t[2] - t[0], h = direction.cross(e2);
-        const double det = e1.dot(h);
-        if (std::abs(det) < 1e-300) continue;
-        const Vec s = origin - t[0];
-        const double u = s.dot(h) / det;
-        if (u < 0.0 || u > 1.0) continue;
-        const Vec q = s.cross(e1);
-        const double v = direction.dot(q) / det;
-        if (v < 0.0 || u + v > 1.0) continue;
-        const double along = e2.dot(q) / det;
-        if (along > 0.0 && along <= extents[size_t(i)]) {
-          hit = true;
-          break;
+      for (size_t g = 0; g < f.group_boxes.size() && !hit; ++g) {
+        if (!segment_meets_box(origin, end, f.group_boxes[g])) continue;
+        const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
+        for (size_t k = g * kGroup; k < group_end; ++k) {
+          const Triangle &t = f.triangles[k];
+          const Vec e1 = t[1] - t[0], e2 = t[2] - t[0], h = direction.cross(e2);
+          const double det = e1.dot(h);
+          if (std::abs(det) < 1e-300) continue;
+          const Vec s = origin - t[0];
+          const double u = s.dot(h) / det;
+          if (u < 0.0 || u > 1.0) continue;
+          const Vec q = s.cross(e1);
+          const double v = direction.dot(q) / det;
+          if (v < 0.0 || u + v > 1.0) continue;
+          const double along = e2.dot(q) / det;
+          if (along > 0.0 && along <= extents[size_t(i)]) {
+            hit = true;
+            break;
+          }
         }
       }
       if (hit) {
@@ -282,35 +335,49 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
     level[size_t(i)] = l;
     levels = std::max(levels, l + 1);
   }
-  std::vector<std::vector<int32_t>> waves(static_cast<size_t>(levels));
-  for (const int32_t i : order.bottom_up) waves[size_t(level[size_t(i)])].push_back(i);
   stats.waves = levels;
 
-  // Each feather's vanes once it is placed (its wave done): what the feathers above it keep clear of.
+  // A feather is placed as soon as every lower feather it may touch is (not wave by wave: a wave's
+  // end made every thread wait for the slowest feather of it, and the bird has hundreds of waves).
+  // It reads only those feathers' final vanes, so the result is the same for any schedule.
+  std::vector<std::vector<int32_t>> higher(n);
+  std::vector<int32_t> waiting(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    for (const int32_t j : near[i])
+      if (order.rank[size_t(j)] < order.rank[i]) {
+        ++waiting[i];
+        higher[size_t(j)].push_back(int32_t(i));
+      }
+  std::vector<int32_t> ready;
+  for (auto it = order.bottom_up.rbegin(); it != order.bottom_up.rend(); ++it)
+    if (waiting[size_t(*it)] == 0) ready.push_back(*it);
+  std::mutex mutex;  // guards ready, waiting and done
+  size_t done = 0;
+  // Each feather's vanes once it is placed: what the feathers above it keep clear of.
   std::vector<FeatherVanes> placed(n);
   int64_t lifted = 0, unresolved = 0;
   float largest = 0.0f;
-  for (const std::vector<int32_t> &wave : waves) {
-#pragma omp parallel for schedule(dynamic, 4) reduction(+ : lifted, unresolved) reduction(max : largest)
-    for (int64_t w = 0; w < int64_t(wave.size()); ++w) {
-      const size_t i = size_t(wave[size_t(w)]);
+#pragma omp parallel reduction(+ : lifted, unresolved) reduction(max : largest)
+  while (true) {
+    int32_t next = -1;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (done == n) break;
+      if (!ready.empty()) {
+        next = ready.back();
+        ready.pop_back();
+      }
+    }
+    if (next < 0) {
+      std::this_thread::yield();
+      continue;
+    }
+    const size_t i = size_t(next);
+    for (int once = 0; once < 1; ++once) {  // `continue` ends the feather
       FeatherVanes &mine = placed[i];
       mine = feather_vanes(r_frame, ranges, i, options.root_disc);
       if (mine.triangles.empty()) continue;
       const double gap = double(options.offset) * mine.extent, gap2 = gap * gap;
-      // The lower feathers' groups within reach (placed in earlier waves).
-      std::vector<const FeatherVanes *> lower;
-      for (const int32_t j : near[i])
-        if (order.rank[size_t(j)] < order.rank[i]) lower.push_back(&placed[size_t(j)]);
-      struct Candidate {
-        const FeatherVanes *feather;
-        size_t group;
-      };
-      std::vector<Candidate> candidates;
-      for (const FeatherVanes *f : lower)
-        for (size_t g = 0; g < f->centers.size(); ++g)
-          if ((f->centers[g] - mine.root).norm() <= mine.extent + f->radii[g] + gap) candidates.push_back({f, g});
-      if (candidates.empty()) continue;
       // The axis: across the shaft (root to vane base), lifting toward the skin normal.
       const Vec normal = r_frame.root_frames[i].normal().cast<double>();
       const Vec base = r_frame.vanes.positions[size_t(r_frame.vanes.triangles[size_t(ranges.first_triangle[i])][0])].cast<double>();
@@ -319,42 +386,142 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       if (!(axis_raw.norm() > 1e-12 * std::max(shaft.norm(), 1e-300))) continue;
       const Vec axis = axis_raw.normalized();
       const double max_angle = std::acos(std::clamp(shaft.normalized().dot(normal), -1.0, 1.0));
+      // A turn about the axis keeps a point's height along the axis and its distance from it, so a
+      // group of mine can meet a lower group at some angle only when both differ by at most the
+      // sum of their radii and the gap: per group of mine, the lower groups that pass (with a slack
+      // for rounding, so a pair skipped is one the sphere test below would reject at every angle).
+      struct Candidate {
+        const FeatherVanes *feather;
+        size_t group;
+      };
+      auto ring = [&](const Vec &c) {
+        const Vec d = c - mine.root;
+        const double h = d.dot(axis);
+        return Eigen::Vector2d(h, (d - h * axis).norm());
+      };
+      std::vector<Eigen::Vector2d> mine_rings(mine.centers.size());
+      for (size_t g = 0; g < mine.centers.size(); ++g) mine_rings[g] = ring(mine.centers[g]);
+      // (A shrink changes both, so the search by shrinking gathers its candidates without it.)
+      std::vector<std::vector<Candidate>> candidates;
+      const double slack = 1e-9 * (mine.extent + mine.root.cwiseAbs().maxCoeff());
+      auto gather = [&](bool turns_only) {
+        candidates.assign(mine.centers.size(), {});
+        bool any = false;
+        for (const int32_t j : near[i]) {
+          if (order.rank[size_t(j)] >= order.rank[i]) continue;
+          const FeatherVanes *f = &placed[size_t(j)];
+          for (size_t k = 0; k < f->centers.size(); ++k) {
+            if ((f->centers[k] - mine.root).norm() > mine.extent + f->radii[k] + gap) continue;
+            const Eigen::Vector2d other = ring(f->centers[k]);
+            for (size_t g = 0; g < mine.centers.size(); ++g) {
+              const double reach = mine.radii[g] + f->radii[k] + gap + slack;
+              if (turns_only &&
+                  (std::abs(other.x() - mine_rings[g].x()) > reach || std::abs(other.y() - mine_rings[g].y()) > reach))
+                continue;
+              candidates[g].push_back({f, k});
+              any = true;
+            }
+          }
+        }
+        return any;
+      };
+      if (!gather(true)) continue;
       std::vector<Triangle> moved(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> moved_boxes(mine.triangles.size());
+      // The last conflict found (a pair of triangle groups, or a vertex below the skin) is tried
+      // first: the search's next angle is near, so it usually conflicts again and the answer comes at
+      // once. The answer is the full test's either way (every test skipped is conservative).
+      struct Witness {
+        int kind = 0;  // 0 none, 1 a group of mine against a candidate, 2 a vertex below the skin
+        size_t group = 0, candidate = 0;
+        int64_t vertex = 0;
+      } witness;
+      size_t call = 0;
+      std::vector<size_t> turned_in(mine.centers.size(), SIZE_MAX);  // the call that turned a group
+      auto pair_conflict = [&](const Eigen::Matrix3d &turn, size_t g, size_t c) {
+        const size_t end = std::min(mine.triangles.size(), g * kGroup + kGroup);
+        if (turned_in[g] != call) {
+          for (size_t t = g * kGroup; t < end; ++t) {
+            moved_boxes[t].setEmpty();
+            for (int v = 0; v < 3; ++v) {
+              moved[t][size_t(v)] = mine.root + turn * (mine.triangles[t][size_t(v)] - mine.root);
+              moved_boxes[t].extend(moved[t][size_t(v)]);
+            }
+          }
+          turned_in[g] = call;
+        }
+        const Candidate &k = candidates[g][c];
+        const size_t other_end = std::min(k.feather->triangles.size(), k.group * kGroup + kGroup);
+        for (size_t t = g * kGroup; t < end; ++t)
+          for (size_t u = k.group * kGroup; u < other_end; ++u) {
+            const Eigen::AlignedBox3d &a = moved_boxes[t], &b = k.feather->boxes[u];
+            if ((a.min().array() > b.max().array() + gap).any() || (b.min().array() > a.max().array() + gap).any())
+              continue;
+            if (too_close(moved[t], k.feather->triangles[u], gap2)) return true;
+          }
+        return false;
+      };
+      // Below the skin. On a closed skin the signed distance is the distance with a sign, which
+      // changes by at most what a point moves: per vertex, the last distance asked and the turn it
+      // was asked at are kept, and a vertex that the new turn cannot move that far from there
+      // (the turns' difference bounds the move) stays out without asking again. The slack covers the
+      // distance's rounding in float. An open skin (whose sign flips past its open edges) is asked
+      // every time.
+      const int64_t v0 = ranges.first_vertex[i], v1 = ranges.first_vertex[i + 1];
+      const bool closed_skin = skin && skin->open_edges().empty();
+      const double skin_slack = 1e-4 * mine.extent + 1e-6 * mine.root.cwiseAbs().maxCoeff();
+      struct Known {
+        double distance, angle, scale;
+      };
+      std::vector<Known> known;
+      auto below_skin = [&](double angle, double scale, const Eigen::Matrix3d &turn, int64_t x) {
+        const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
+        const double from_root = (p - mine.root).norm();
+        if (from_root <= double(options.root_disc) * mine.extent) return false;
+        if (closed_skin) {
+          if (known.empty()) {
+            known.resize(size_t(v1 - v0));
+            for (int64_t y = v0; y < v1; ++y)
+              known[size_t(y - v0)] = {double(skin->signed_distance(r_frame.vanes.positions[size_t(y)])), 0.0, 1.0};
+          }
+          Known &k = known[size_t(x - v0)];
+          // |s R(a) - s' R(a')| <= |s - s'| + s' |R(a) - R(a')| = |s - s'| + 2 s' sin(|a - a'| / 2).
+          const double move = std::abs(scale - k.scale) + 2.0 * k.scale * std::sin(0.5 * std::abs(angle - k.angle));
+          if (k.distance > move * from_root + skin_slack) return false;
+          const Vec q = mine.root + turn * (p - mine.root);
+          k = {double(skin->signed_distance(q.cast<float>())), angle, scale};
+          return k.distance < 0.0;
+        }
+        const Vec q = mine.root + turn * (p - mine.root);
+        return skin->signed_distance(q.cast<float>()) < 0.0f;
+      };
       auto conflict = [&](double angle, double scale = 1.0) {
         const Eigen::Matrix3d turn = scale * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
-        for (size_t t = 0; t < mine.triangles.size(); ++t) {
-          moved_boxes[t].setEmpty();
-          for (int v = 0; v < 3; ++v) {
-            moved[t][size_t(v)] = mine.root + turn * (mine.triangles[t][size_t(v)] - mine.root);
-            moved_boxes[t].extend(moved[t][size_t(v)]);
+        ++call;
+        const bool turned = angle > 0.0 || scale != 1.0;
+        if (witness.kind == 1 && pair_conflict(turn, witness.group, witness.candidate)) return true;
+        if (witness.kind == 2 && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return true;
+        for (size_t g = 0; g < mine.centers.size(); ++g) {
+          if (candidates[g].empty()) continue;
+          const Vec c = mine.root + turn * (mine.centers[g] - mine.root);
+          for (size_t k = 0; k < candidates[g].size(); ++k) {
+            const Candidate &other = candidates[g][k];
+            const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
+            if ((other.feather->centers[other.group] - c).squaredNorm() > reach * reach) continue;
+            if (pair_conflict(turn, g, k)) {
+              witness = {1, g, k, 0};
+              return true;
+            }
           }
         }
         // No vertex of the turned vanes below the skin (vertices near the root, which leaves the skin
-        // there, excepted as the root disc is).
-        if (skin && (angle > 0.0 || scale != 1.0))
-          for (int64_t x = ranges.first_vertex[i]; x < ranges.first_vertex[i + 1]; ++x) {
-            const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
-            if ((p - mine.root).norm() <= double(options.root_disc) * mine.extent) continue;
-            const Vec q = mine.root + turn * (p - mine.root);
-            if (skin->signed_distance(q.cast<float>()) < 0.0f) return true;
-          }
-        for (size_t g = 0; g < mine.centers.size(); ++g) {
-          const Vec c = mine.root + turn * (mine.centers[g] - mine.root);
-          const size_t end = std::min(mine.triangles.size(), g * kGroup + kGroup);
-          for (const Candidate &k : candidates) {
-            const double reach = mine.radii[g] + k.feather->radii[k.group] + gap;
-            if ((k.feather->centers[k.group] - c).squaredNorm() > reach * reach) continue;
-            const size_t other_end = std::min(k.feather->triangles.size(), k.group * kGroup + kGroup);
-            for (size_t t = g * kGroup; t < end; ++t)
-              for (size_t u = k.group * kGroup; u < other_end; ++u) {
-                const Eigen::AlignedBox3d &a = moved_boxes[t], &b = k.feather->boxes[u];
-                if ((a.min().array() > b.max().array() + gap).any() || (b.min().array() > a.max().array() + gap).any())
-                  continue;
-                if (too_close(moved[t], k.feather->triangles[u], gap2)) return true;
-              }
-          }
-        }
+        // there, excepted as the root disc is). Last: the triangle tests above are cheaper.
+        if (skin && turned)
+          for (int64_t x = v0; x < v1; ++x)
+            if (below_skin(angle, scale, turn, x)) {
+              witness = {2, 0, 0, x};
+              return true;
+            }
         return false;
       };
       if (!conflict(0.0)) continue;
@@ -371,8 +538,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): unturned, it is shrunk toward its
         // root until it clears (the largest such size, by bisection), as the skin pass does.
+        gather(false);
+        witness = {};
         double lo = 0.0, hi = 1.0;
-        for (int b = 0; b < 20; ++b) {
+        for (int b = 0; b < 12; ++b) {
           const double mid = 0.5 * (lo + hi);
           (conflict(0.0, mid) ? hi : lo) = mid;
         }
@@ -391,7 +560,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         ++unresolved;
         continue;
       }
-      while (above - below > 1e-6) {
+      while (above - below > 1e-4) {
         const double mid = 0.5 * (below + above);
         (conflict(mid) ? below : above) = mid;
       }
@@ -410,6 +579,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       ++lifted;
       largest = std::max(largest, float(above));
     }
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const int32_t k : higher[i])
+      if (--waiting[size_t(k)] == 0) ready.push_back(k);
+    ++done;
   }
   stats.lifted = lifted;
   stats.unresolved = unresolved;

@@ -56,7 +56,7 @@ struct LayeringOptions {
 struct LayeringStats {
   int64_t lifted = 0;      // feathers turned up
   int64_t unresolved = 0;  // feathers no turn up to the skin normal could clear: shrunk instead
-  int waves = 0;           // groups of feathers lifted together
+  int waves = 0;           // the longest chain of feathers each waiting for the one below it
   float largest_lift = 0.0f;  // radians
 };
 
@@ -64,8 +64,9 @@ struct LayeringStats {
 /// through its root across its shaft (shaft x skin normal) by the smallest angle, up to the skin
 /// normal, at which no vane triangle of it comes within its offset of a lower feather's (triangles
 /// of the root discs apart); that angle is added to r_frame.lifts. Feathers whose bounding spheres
-/// (root, extent) meet no lower one's are independent: they are lifted in parallel, in waves, and
-/// the result does not depend on the thread count.
+/// (root, extent) meet no lower one's are independent: a feather is lifted (in parallel with others)
+/// once every lower feather it may touch is placed, and the result does not depend on the thread
+/// count or the schedule.
 /// `skin` (may be null) is the posed skin: a turn that takes a vane vertex below it is refused too.
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
                           const MeshQuery *skin, CoatFrame &r_frame);

@@ -56,13 +56,21 @@ struct RootSettings {
 /// The most guides a root may blend (InterpolationSettings::k): growth keeps them in fixed slots.
 inline constexpr int max_guides_per_root = 16;
 
+/// The default strand width at the root as a fraction of the rest emitter's bounding-box diagonal
+/// (Sintel's head and shoulders, 62 units across, get 0.031; the tip's default is a quarter of it).
+inline constexpr float default_width_root_fraction = 5e-4f;
+
+/// The default skin margin as a fraction of the rest guides' median segment length (no absolute unit:
+/// a groom modelled in metres or millimetres behaves like one in centimetres).
+inline constexpr float default_margin_fraction = 0.05f;
+
 struct InterpolationSettings {
   enum class Method { streamline, fur, linear } method = Method::streamline;
   int k = 4;                   // guides per root, in [1, max_guides_per_root]
   double radius = 0.0;         // 0: unlimited
   float falloff = 2.0f;        // weight ~ 1 / d^falloff
-  /// Scene units kept between strands and the skin; negative (the default): a tenth of the rest
-  /// guides' median segment length, so that the groom's scale does not matter.
+  /// Scene units kept between strands and the skin; negative (the default): default_margin_fraction
+  /// of the rest guides' median segment length, so that the groom's scale does not matter.
   float skin_margin = -1.0f;
   FileLoc loc;
 };
@@ -97,8 +105,11 @@ struct GroomDesc {
   FileLoc guides_loc;
   RootSettings roots;
   int points_per_strand = 32;
-  float width_root = 0.02f;
-  float width_tip = 0.005f;
+  /// Strand widths (diameters) at the root and the tip, scene units; negative (the default):
+  /// default_width_root_fraction of the rest emitter's bounding-box diagonal at the root and a
+  /// quarter of that at the tip, so that the groom's scale does not matter.
+  float width_root = -1.0f;
+  float width_tip = -1.0f;
   InterpolationSettings interpolation;
   PartingSettings partings;
   std::vector<EffectDesc> effects;

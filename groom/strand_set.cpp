@@ -1,7 +1,9 @@
 #include "groom/strand_set.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "groom/error.h"
 
@@ -50,6 +52,22 @@ void StrandSet::check_invariants() const {
   if (ids.size() != strand_count()) throw InternalError("StrandSet: one id per strand");
   for (size_t p = 0; p < positions.size(); ++p)
     if (!positions[p].allFinite()) throw InternalError("StrandSet: non-finite point " + std::to_string(p));
+}
+
+double median_segment_length(const StrandSet &strands) {
+  std::vector<float> lengths;
+  lengths.reserve(strands.point_count());
+  for (size_t s = 0; s < strands.strand_count(); ++s) {
+    const auto points = strands.points(s);
+    for (size_t j = 1; j < points.size(); ++j) {
+      const float length = (points[j] - points[j - 1]).norm();
+      if (length > 0.0f && std::isfinite(length)) lengths.push_back(length);
+    }
+  }
+  if (lengths.empty()) return 0.0;
+  const auto middle = lengths.begin() + std::ptrdiff_t(lengths.size() / 2);
+  std::nth_element(lengths.begin(), middle, lengths.end());
+  return double(*middle);
 }
 
 }  // namespace plume

@@ -44,4 +44,8 @@ struct StrandSet {
   void check_invariants() const;
 };
 
+/// Median length of the segments of non-zero, finite length (scene units); 0 when there is none.
+/// The strands' length unit: defaults that must scale with a groom are fractions of it.
+double median_segment_length(const StrandSet &strands);
+
 }  // namespace plume

@@ -41,6 +41,9 @@ struct Candidate {
   float score;     // factor / distance^falloff; +inf for an exact hit
 };
 
+/// The largest turn (radians) a guide is carried by from its root's normal to a root's normal: 30 degrees.
+constexpr float max_carry_turn = 0.5235988f;
+
 float falloff_pow(float distance, float falloff) {
   return falloff == 2.0f ? distance * distance : std::pow(distance, falloff);
 }
@@ -232,9 +235,13 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
         binding.weights[slot] /= total;
         length += binding.weights[slot] * guide_lengths[size_t(g)];
         // Minimal rotation from the guide root's normal to the root's normal, expressed between the
-        // two rest frames so that per-frame carrying does not depend on their tangents.
-        const Eigen::Quaternionf turn =
+        // two rest frames so that per-frame carrying does not depend on their tangents. Its angle is
+        // capped (continuously): where the skin turns sharply between a guide root and the root (an
+        // ear below the scalp's guides), a guide turned whole would stick out of the head.
+        Eigen::Quaternionf turn =
             Eigen::Quaternionf::FromTwoVectors(guide_frames[size_t(g)].col(2), root_frame.basis.col(2));
+        const float angle = Eigen::AngleAxisf(turn).angle();
+        if (angle > max_carry_turn) turn = Eigen::Quaternionf::Identity().slerp(max_carry_turn / angle, turn);
         const Eigen::Matrix3f local = root_frame.basis.transpose() * turn.toRotationMatrix() * guide_frames[size_t(g)];
         binding.rest_rotations[slot] = Eigen::Quaternionf(local).normalized();
       }

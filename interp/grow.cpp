@@ -342,7 +342,9 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   fine.add(root, band.lower_bound(root));
   Eigen::Vector3f x = root, last = root_normal;
   float nearest = 0.0f;  // the nearest guide's distance at the last point evaluated
-  float shortest_field = 1.0f;  // the bent field's least length over the current step's evaluations
+  // The least of (|V| - the length needed there) over the current step's evaluations: the strand
+  // ends where it is negative (see min_field_length).
+  float field_slack = INFINITY;
   auto velocity = [&](const Eigen::Vector3f &p) {
     ++stats.evaluations;
     if (partings) partings->foot = band.foot(p);
@@ -350,7 +352,11 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     nearest = sample.nearest;
     float lower = 0.0f;
     const Eigen::Vector3f bent = band.bend(p, sample.direction, lower);
-    shortest_field = std::min(shortest_field, bent.norm());
+    // The length needed: min_field_length from twice the margin up, down to 0.4 of it on the skin,
+    // where the band's lift alone gives 0.25 (a root never ends where it starts). A function of x:
+    // below twice the margin `lower` is the exact signed distance.
+    const float room = margin > 0.0f ? std::clamp(lower / (2.0f * margin), 0.0f, 1.0f) : 1.0f;
+    field_slack = std::min(field_slack, bent.norm() - min_field_length * (0.4f + 0.6f * room));
     return unit_or(bent, last);
   };
   double arc = 0.0;
@@ -362,8 +368,8 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   float h = std::min(step, 0.5f * margin);
   Eigen::Vector3f k1 = velocity(x);
   float nearest_at_x = nearest;
-  if (shortest_field < min_field_length) ++stats.ended_strands;
-  for (int64_t s = 0; s < max_steps && arc < grown && shortest_field >= min_field_length; ++s) {
+  if (field_slack < 0.0f) ++stats.ended_strands;
+  for (int64_t s = 0; s < max_steps && arc < grown && field_slack >= 0.0f; ++s) {
     // The error allowed: `tolerance` far from the guides, shrinking in proportion to the nearest
     // guide's distance down to a hundredth of it, where the field turns fastest (its Lipschitz
     // constant grows as 1 / distance) and a strand near a guide must stay with it.
@@ -373,7 +379,7 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     Eigen::Vector3f next, k4;
     float lower = 0.0f, error = 0.0f;
     for (;;) {
-      shortest_field = 1.0f;
+      field_slack = INFINITY;
       const Eigen::Vector3f k2 = velocity(x + 0.5f * h * k1);
       const Eigen::Vector3f k3 = velocity(x + 0.75f * h * k2);
       next = x + h * ((2.0f / 9.0f) * k1 + (1.0f / 3.0f) * k2 + (4.0f / 9.0f) * k3);
@@ -391,7 +397,7 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     ++stats.steps;
     const float moved = (next - x).norm();
     if (lower < 0.0f || !(moved > 1e-3f * h)) break;
-    if (shortest_field < min_field_length) {  // the step passed where the field has no direction
+    if (field_slack < 0.0f) {  // the step passed where the field has no direction
       ++stats.ended_strands;
       break;
     }

@@ -83,7 +83,8 @@ inline constexpr float tolerance_per_distance = 1e-3f;
 /// A streamline strand ends where the field, bent by the skin band, is shorter than this (its guides'
 /// tangents cancel, or the skin leaves no way along it): there the unit direction V / |V| is no
 /// longer Lipschitz, and strands arriving from two sides would meet head on (docs/interpolation.md,
-/// "Where a strand ends early").
+/// "Where a strand ends early"). Within twice the skin margin the length needed falls linearly to
+/// 0.4 of this on the skin, below the band's lift, so that no strand ends at its root.
 inline constexpr float min_field_length = 0.5f;
 
 /// Binds every root to its k nearest guide roots (Euclidean distance on the rest pose, within

@@ -3,11 +3,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <set>
 
 #include "groom/limits.h"
+#include "io/vertex_map.h"
 
 namespace plume::io {
 
@@ -322,39 +322,7 @@ std::vector<std::vector<float>> read_control_maps(const ControlSettings &setting
   for (size_t i = 0; i < settings.controls.size(); ++i) {
     const ControlDesc &c = settings.controls[i];
     if (c.vertex_map_path.empty()) continue;
-    std::ifstream in(c.vertex_map_path);
-    if (!in) throw InputError(c.vertex_map_loc, "controls: cannot open the vertex map \"" + c.vertex_map_path + "\"");
-    std::vector<float> &values = maps[i];
-    values.reserve(vertex_count);
-    std::string line;
-    int line_number = 0;
-    while (std::getline(in, line)) {
-      ++line_number;
-      const size_t hash = line.find('#');
-      if (hash != std::string::npos) line.resize(hash);
-      const size_t first = line.find_first_not_of(" \t\r");
-      if (first == std::string::npos) continue;
-      const size_t last = line.find_last_not_of(" \t\r");
-      const std::string token = line.substr(first, last - first + 1);
-      const FileLoc loc{c.vertex_map_path, line_number, int(first) + 1};
-      size_t used = 0;
-      float v = 0.0f;
-      try {
-        v = std::stof(token, &used);
-      } catch (const std::exception &) {
-        used = 0;
-      }
-      if (used != token.size()) throw InputError(loc, "expected one number per line, got \"" + token + "\"");
-      if (!(v >= 0.0f && v <= 1.0f)) throw InputError(loc, "expected a weight in [0, 1], got \"" + token + "\"");
-      if (values.size() == vertex_count)
-        throw InputError(loc,
-                         "expected " + std::to_string(vertex_count) + " weights (one per emitter vertex), got more");
-      values.push_back(v);
-    }
-    if (values.size() != vertex_count)
-      throw InputError(c.vertex_map_loc, "controls: the vertex map \"" + c.vertex_map_path + "\" holds " +
-                                             std::to_string(values.size()) + " weights, expected " +
-                                             std::to_string(vertex_count) + " (one per emitter vertex)");
+    maps[i] = read_vertex_map(c.vertex_map_path, vertex_count, c.vertex_map_loc.str() + ": controls: vertex_map");
   }
   return maps;
 }

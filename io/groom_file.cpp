@@ -355,8 +355,8 @@ void GroomReader::read_strands(YamlMap &root, GroomDesc &groom) {
   YamlMap strands = root.map("strands");
   groom.points_per_strand = int(strands.integer("points", groom.points_per_strand, 2, max_points_per_strand));
   YamlMap width = strands.map("width");
-  groom.width_root = at_least(width, "root", groom.width_root, 0.0f);
-  groom.width_tip = at_least(width, "tip", groom.width_tip, 0.0f);
+  if (width.has("root")) groom.width_root = at_least(width, "root", 0.0f, 0.0f);
+  if (width.has("tip")) groom.width_tip = at_least(width, "tip", 0.0f, 0.0f);
   width.finish();
   strands.finish();
 }
@@ -803,11 +803,13 @@ std::string describe_group(const GroomDesc &groom, const std::string &indent) {
       if (r.near_guides > 0.0) out << ", within " << format_number(r.near_guides) << " of a guide root";
       out << ", seed " << r.seed << "\n";
     }
-    out << indent << "strands: " << groom.points_per_strand << " points, width " << format_number(groom.width_root)
-        << " to " << format_number(groom.width_tip) << "\n";
+    const auto width = [](float w) { return w < 0.0f ? std::string("auto") : format_number(w); };
+    out << indent << "strands: " << groom.points_per_strand << " points, width " << width(groom.width_root) << " to "
+        << width(groom.width_tip) << "\n";
     const InterpolationSettings &s = groom.interpolation;
     out << indent << "interpolation: " << methods[int(s.method)] << ", k " << s.k << ", falloff "
-        << format_number(s.falloff) << ", skin margin " << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
+        << format_number(s.falloff) << ", skin margin "
+        << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
     const PartingSettings &p = groom.partings;
     static const char *zone_sources[] = {"none", "face groups", "zone map", "hard lines"};
     out << indent << "partings: zones " << zone_sources[int(p.zone_source)] << ", " << p.lines.size() << " lines\n";

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The sanitizer pass (run by ./dev.sh test after the suite):
+# The sanitizer pass (not part of ./dev.sh test: see docs/robustness.md, "Time"):
 #   tests/sanitize.sh [FUZZ_SECONDS]
 # builds everything with AddressSanitizer and UndefinedBehaviorSanitizer in build-asan (g++,
 # -DPLUME_SANITIZE=ON), runs the whole suite there, then every reader's fuzz target for

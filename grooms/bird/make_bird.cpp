@@ -309,7 +309,7 @@ double wing_angle(int frame) {
   return 1.45 * (1.0 - smoothstep((t - 22.0) / 16.0));
 }
 
-/// The neck's bend to the bird's right, radians: up to 90 degrees at frame 25, back by frame 48.
+/// The neck's bend to the bird's right, radians: 90 degrees half way (89.9 at frames 24 and 25), back by frame 48.
 double neck_angle(int frame) {
   const double t = (frame - 1.0) / (kFrames - 1.0);
   const double s = std::sin(kPi * t);

@@ -177,21 +177,21 @@ TEST_CASE("a turntable is one strip up to 4 views, else a sheet about twice as w
 }
 
 TEST_CASE("previews highlight what plume check reports, with its counts", "[cli]") {
-  // Linear blending (a baseline) leaves points inside the skin and crossing pairs; streamline
-  // growth leaves none inside.
+  // Linear blending (a baseline) leaves crossing pairs; every method keeps points out of the skin,
+  // so a skin margin of 0.5 (points nearer the skin than that count as inside) makes some.
   ScratchDir scratch("preview_problems");
   const std::string linear = write_sintel_groom(scratch, "linear", "interpolation: {method: linear, k: 4}\n");
   const std::string clean = write_sintel_groom(scratch, "clean", "");
   // Frame 1 is the rest pose: the emitter OBJ is the skin the strands stand on. Both derive the
   // crossing tolerance from the strands (1e-3 of their median segment).
-  RunResult preview = run_ok("preview " + quoted(linear) + " --frame 1 --size 200 --color problems --out " +
+  RunResult preview = run_ok("preview " + quoted(linear) + " --frame 1 --size 200 --color problems --margin 0.5 --out " +
                                  quoted(scratch / "linear.png"),
                              scratch);
   run_ok("regrow " + quoted(linear) + " --frames 1 --out " + quoted(scratch / "linear.####.hair"), scratch);
-  const RunResult check = run_ok("check " + quoted(scratch / "linear.0001.hair") + " --mesh " + quoted(sintel_dir() + "/sintel.obj"),
+  const RunResult check = run_ok("check " + quoted(scratch / "linear.0001.hair") + " --margin 0.5 --mesh " + quoted(sintel_dir() + "/sintel.obj"),
                                  scratch);
   std::smatch found;
-  REQUIRE(std::regex_search(check.out, found, std::regex(R"(points inside the skin \(margin 0\): (\d+))")));
+  REQUIRE(std::regex_search(check.out, found, std::regex(R"(points inside the skin \(margin 0.5\): (\d+))")));
   const std::string inside = found[1];
   REQUIRE(std::regex_search(check.out, found,
                             std::regex(R"(crossing strand pairs (\(tolerance [0-9.e+-]+\)): (\d+) transversal \(angle above 10 degrees\), (\d+) touching)")));
@@ -199,7 +199,7 @@ TEST_CASE("previews highlight what plume check reports, with its counts", "[cli]
   INFO(preview.out << check.out);
   CHECK(std::stoi(inside) > 0);
   CHECK(std::stoi(transversal) > 0);
-  CHECK(preview.out.find("frame 1: " + inside + " points inside the skin") != std::string::npos);
+  CHECK(preview.out.find("frame 1: " + inside + " points inside the skin (margin 0.5)") != std::string::npos);
   CHECK(preview.out.find("crossing strand pairs " + tolerance + ": " + transversal + " transversal, " + touching +
                          " touching; drawn: " + transversal + " transversal, " + touching + " touching") != std::string::npos);
   const int red = count_pixels(read_png(scratch / "linear.png"), inside_colored);

@@ -664,6 +664,7 @@ TEST_CASE("on strands combed down along the skin, the skin pass's proofs change 
   const Guides guides = bind_guides(query, test::combed_guides(mesh, scatter_roots(mesh, 120, 11)), "combed");
   const Roots roots = scatter_roots(mesh, 3000, 3);
   InterpolationSettings settings;
+  settings.skin_margin = 0.02f;  // a band the combed strands lie in
   const interp::Binding binding = interp::bind(mesh, guides, roots, settings);
   std::vector<int32_t> nearest(roots.size());
   for (size_t i = 0; i < roots.size(); ++i) nearest[i] = binding.guide_ids[i * size_t(binding.k)];

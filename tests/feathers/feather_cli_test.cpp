@@ -47,6 +47,49 @@ TEST_CASE("a feather frame regrown alone is the same bytes as in a full run, for
   }
 }
 
+TEST_CASE("plume regrow grows feathers on the simulated stems, and the same from plume simulate's cache",
+          "[feathers][cli]") {
+  ScratchDir scratch("feather_dynamics");
+  const auto regrow = [&](const std::string &groom, const std::string &frames, const std::string &name,
+                          const std::string &extra) {
+    const RunResult run = run_plume("regrow " + quoted(groom) + " --frames " + frames + " --strands 300 --no-preview --out " +
+                                        quoted(scratch / (name + ".####.usda")) + " --vanes " +
+                                        quoted(scratch / (name + "_vanes.####.obj")) + extra,
+                                    scratch);
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+  };
+  // The whole run simulates the stems from frame 1 (the left wing opening).
+  regrow(kBird, "1-8", "full", "");
+  // A farm task: the stems simulated once into a guide cache, a frame regrown alone from it.
+  const RunResult simulate =
+      run_plume("simulate " + quoted(kBird) + " --frames 1-8 --cache " + quoted(scratch / "stems.####.hair"), scratch);
+  INFO(simulate.err);
+  REQUIRE(simulate.exit_code == 0);
+  regrow(kBird, "8", "cached", " --guides-cache " + quoted(scratch / "stems.####.hair"));
+  CHECK(read_text(scratch / "cached.0008.usda") == read_text(scratch / "full.0008.usda"));
+  CHECK(read_text(scratch / "cached_vanes.0008.obj") == read_text(scratch / "full_vanes.0008.obj"));
+  // The same groom without dynamics (the stems carried by the skin alone) grows other feathers: the
+  // simulated stems are what the feathers follow.
+  std::string text = read_text(kBird);
+  const size_t dynamics = text.find("\ndynamics:");
+  REQUIRE(dynamics != std::string::npos);
+  text.erase(dynamics + 1, text.find("\n\n", dynamics + 1) - dynamics);
+  const std::string bird = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
+  for (const std::string name : {"bird.obj", "anim/bird.####.obj", "stems.obj", "bird.feathers.yaml"}) {
+    size_t at = text.find(" " + name);
+    if (at == std::string::npos) at = text.find("[" + name);
+    REQUIRE(at != std::string::npos);
+    text.replace(at + 1, name.size(), bird + name);
+  }
+  const std::string still = scratch / "still.groom.yaml";
+  std::ofstream(still) << text;
+  const auto same = [&](const std::string &a, const std::string &b) { return read_text(scratch / a) == read_text(scratch / b); };
+  regrow(still, "8", "still", "");
+  CHECK_FALSE(same("still.0008.usda", "full.0008.usda"));
+  CHECK_FALSE(same("still_vanes.0008.obj", "full_vanes.0008.obj"));
+}
+
 TEST_CASE("a feather frame passes plume check, curves and vane meshes", "[feathers][cli]") {
   ScratchDir scratch("feather_check");
   const RunResult run = run_plume("regrow " + quoted(kBird) + " --frames 13 --strands 1500 --out " +

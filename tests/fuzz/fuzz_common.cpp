@@ -108,7 +108,8 @@ void check_groom(const GroomDesc &groom) {
   require(fs::path(groom.emitter_path).is_absolute() && fs::is_regular_file(groom.emitter_path), "emitter.mesh");
   require(fs::path(groom.guides_path).is_absolute() && fs::is_regular_file(groom.guides_path), "guides.file");
   require(groom.points_per_strand >= 2 && groom.points_per_strand <= 65536, "strands.points");
-  require(finite(groom.width_root) && groom.width_root >= 0.0f && finite(groom.width_tip) && groom.width_tip >= 0.0f,
+  require(finite(groom.width_root) && (groom.width_root >= 0.0f || groom.width_root == -1.0f) &&
+              finite(groom.width_tip) && (groom.width_tip >= 0.0f || groom.width_tip == -1.0f),
           "strands.width");
   const RootSettings &roots = groom.roots;
   require(roots.count >= 0 && roots.count <= max_root_count && finite(roots.density) && roots.density >= 0.0 &&

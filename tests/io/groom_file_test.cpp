@@ -242,13 +242,13 @@ TEST_CASE("a minimal groom file gets the documented defaults", "[io]") {
   CHECK(g.roots.near_guides == 0.0);
   CHECK(g.roots.seed == 1);
   CHECK(g.points_per_strand == 32);
-  CHECK(g.width_root == 0.02f);
-  CHECK(g.width_tip == 0.005f);
+  CHECK(g.width_root < 0.0f);  // automatic: scaled to the emitter
+  CHECK(g.width_tip < 0.0f);
   CHECK(g.interpolation.method == plume::InterpolationSettings::Method::streamline);
   CHECK(g.interpolation.k == 4);
   CHECK(g.interpolation.radius == 0.0);
   CHECK(g.interpolation.falloff == 2.0f);
-  CHECK(g.interpolation.skin_margin < 0.0f);  // relative to the guides: Binding::skin_margin
+  CHECK(g.interpolation.skin_margin < 0.0f);  // automatic: scaled to the guides
   CHECK(g.partings.zone_source == plume::PartingSettings::ZoneSource::none);
   CHECK(g.partings.lines.empty());
   CHECK(g.effects.empty());

@@ -123,13 +123,22 @@ TEST_CASE("streamline growth's clearance is a lower bound of every point's dista
   const interp::Binding binding = interp::bind(mesh, guides, roots, settings);
   interp::grow(binding, mesh, query, roots, guides.strands, options, strands, &clearance);
   REQUIRE(clearance.size() == strands.positions.size());
-  int near_skin = 0;
+  int near_skin = 0, ended = 0;
   for (size_t i = 0; i < strands.positions.size(); ++i) {
     const float exact = query.signed_distance(strands.positions[i]);
     CHECK(clearance[i] <= exact + 1e-5f);
-    if (i % 16 != 0) CHECK(exact >= 0.5f * settings.skin_margin);
+    // Past the root a strand has climbed to the margin, unless it ended early (where the field has no
+    // direction, docs/interpolation.md) while climbing.
+    const size_t s = i / 16;
+    const bool full = strands.length(s) >= 0.99 * double(binding.lengths[s]);
+    ended += i % 16 == 0 && !full;
+    if (i % 16 != 0 && full) CHECK(exact >= 0.5f * settings.skin_margin);
     near_skin += exact < 0.05f;
   }
+  INFO(ended << " strands ended early");
+  // Guides combed over a whole sphere meet head on somewhere (a sphere cannot be combed flat without
+  // a whorl): strands near those points end there. 44 of 2,000 do today.
+  CHECK(ended < 60);
   // The combed strands run close to the skin, where the bound matters.
   CHECK(near_skin > 1000);
 

@@ -475,6 +475,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const InterpolationSettings &settings = binding.settings;
   const int k = binding.k;
   const float margin = binding.skin_margin;
+  const float scale = mesh_scale(mesh);
   std::unique_ptr<SkinGrid> own_skin_grid;
   if (!shared_skin_grid) own_skin_grid = std::make_unique<SkinGrid>(mesh, query);
   const SkinGrid &skin_grid = shared_skin_grid ? *shared_skin_grid : *own_skin_grid;
@@ -551,9 +552,13 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             points[i] = walk(points[i - 1], normal, binding.lengths[size_t(r)] / float(n - 1), margin, band, counts, lower[i]);
         }
       } else if (settings.method == InterpolationSettings::Method::fur) {
-        // Segment j: weighted length and weighted direction of the carried guides' segments j.
+        // Segment j: weighted length and weighted direction of the carried guides' segments j; a
+        // point that falls inside the skin (or within the margin) is moved out to the margin, and the
+        // strand goes on from there. Points outside the margin are the blend's own.
         points[0] = root;
         lower[0] = band.lower_bound(root);
+        SkinGuard guard(query, margin, scale, &skin_grid);
+        guard.start(root, roots.points[size_t(r)].triangle);  // on the skin or lifted above it
         Eigen::Vector3f direction = normal;
         for (int i = 0; i + 1 < n; ++i) {
           Eigen::Vector3f blend = Eigen::Vector3f::Zero();
@@ -564,29 +569,27 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             length += slots[s].weight * frame.resampled_lengths[at];
           }
           direction = unit_or(blend, direction);
-          points[i + 1] = walk(points[i], direction, length, margin, band, counts, lower[i + 1]);
+          points[i + 1] = points[i] + length * direction;
+          guard.keep_out(points[i + 1]);
+          lower[i + 1] = guard.lower_bound(points[i + 1]);
         }
       } else {
         // Linear: root-relative offsets of the resampled guides blended as they are (no rotation),
-        // each segment then walked through the skin band.
+        // after the root point the other methods start from; a point that falls inside the skin (or
+        // within the margin) is moved out to the margin.
         points[0] = root;
         lower[0] = band.lower_bound(root);
-        // Each step is the blended offsets' difference, walked from the strand's root.
-        Eigen::Vector3f previous = root_frame.origin, direction = normal;
-        for (int s = 0; s < used; ++s) {
-          const size_t g = size_t(slots[s].guide);
-          previous += slots[s].weight * (frame.resampled[g * size_t(n)] - frame.origins[g]);
-        }
+        SkinGuard guard(query, margin, scale, &skin_grid);
+        guard.start(root, roots.points[size_t(r)].triangle);  // on the skin or lifted above it
         for (int i = 1; i < n; ++i) {
           Eigen::Vector3f p = root_frame.origin;
           for (int s = 0; s < used; ++s) {
             const size_t g = size_t(slots[s].guide);
             p += slots[s].weight * (frame.resampled[g * size_t(n) + size_t(i)] - frame.origins[g]);
           }
-          const Eigen::Vector3f step = p - previous;
-          direction = unit_or(step, direction);
-          points[i] = walk(points[i - 1], direction, step.norm(), margin, band, counts, lower[i]);
-          previous = p;
+          guard.keep_out(p);
+          points[i] = p;
+          lower[i] = guard.lower_bound(p);
         }
       }
       for (int i = 0; i < n; ++i) finite = points[i].allFinite() && finite;

@@ -132,8 +132,8 @@ struct GrowOptions {
 ///   length;
 /// - fur: each guide carried to the root by its rotation, segment lengths and directions blended;
 /// - linear: root-relative offsets of the guides blended, no rotation (a baseline: it crosses).
-/// Fur and linear walk their segments through the same skin band, so no method leaves a point
-/// inside the skin. `mesh` is the emitter posed at this frame (normals computed) and `query` is built
+/// Fur and linear move a point that falls inside the skin (or within the margin) out to the margin,
+/// so no method leaves a point inside the skin. `mesh` is the emitter posed at this frame (normals computed) and `query` is built
 /// on it; `guides` holds the guide strands at this frame (same count and order as at binding; any
 /// point counts >= 2).
 /// Output: r_strands gets roots.size() strands of options.points_per_strand points, ids = roots.ids.

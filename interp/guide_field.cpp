@@ -252,9 +252,8 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   const float moved = (x - cache.centre).norm();
   float upper = INFINITY;
   for (const Cache::Guide &g : cache.guides) upper = std::min(upper, g.upper + moved);
-  const float guide_limit = shape_.reach * upper;
-  for (const Cache::Guide &g : cache.guides) {
-    if (g.lower - moved >= guide_limit || g.begin == g.end) continue;
+  // One guide's pieces into `near`; returns the guide's distance.
+  const auto measure = [&](const Cache::Guide &g) {
     const size_t first = near.size();
     size_t best = first;
     // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
@@ -278,6 +277,22 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
       n.distance = distance_to_piece(pieces_[size_t(n.piece)], x);
       distance = std::min(distance, n.distance);
     }
+    return distance;
+  };
+  // Without attenuation a guide weighs nothing beyond reach times the nearest guide's distance, so
+  // the guide of least bound is measured first and its distance tightens the limit: the guides
+  // skipped for it would have had no weight, and the answer is the same to the bit.
+  if (!attenuation) {
+    const Cache::Guide *first = nullptr;
+    for (const Cache::Guide &g : cache.guides)
+      if (g.begin != g.end && (!first || g.lower < first->lower)) first = &g;
+    if (first) upper = std::min(upper, measure(*first));
+    near.clear();
+  }
+  const float guide_limit = shape_.reach * upper;
+  for (const Cache::Guide &g : cache.guides) {
+    if (g.lower - moved >= guide_limit || g.begin == g.end) continue;
+    measure(g);
   }
   // Per guide (pieces come grouped by guide, in order): its distance d_g, the smallest of its
   // pieces', and its effective distance, d_g / factor with an attenuation; the nearest of both.

@@ -1,7 +1,8 @@
 // `plume check STRANDS (--mesh M.obj | --groom GROOM [--frame N]) [--guides G] [--roots R] [--json]`:
 // checks Plume's promises on a strand file (no point inside the skin, no transversal crossing, no influence across a hard parting, strands at guide roots reproduce their
 // guide, every requested root has a strand) and prints the figures, as text or JSON. With --strict a
-// violation gives exit code 3. Rules: docs/check.md.
+// violation gives exit code 3. Feather frames go to run_feather_check (app/feather_commands.h): vanes
+// through each other, layer order, and with --previous order flips and popping. Rules: docs/check.md.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -44,6 +45,10 @@ struct CheckArgs {
   bool strict = false;
   bool strict_touching = false;
   bool json = false;
+  // Feather frames: the previous frame's vane meshes, its frame, the popping bound (rachis widths).
+  std::string previous;
+  std::optional<int> previous_frame;
+  std::optional<double> max_pop;
 };
 
 /// What was checked, for the report's header.
@@ -406,7 +411,11 @@ int run_check(const CheckArgs &args) {
     throw InputError("--mesh: expected an .obj mesh, got \"" + args.mesh + "\"");
   set_thread_count(args.threads);
   if (is_feather_check(args.strands, args.groom))
-    return run_feather_check(args.strands, args.mesh, args.groom, args.frame, args.margin, args.strict, args.json);
+    return run_feather_check({args.strands, args.mesh, args.groom, args.frame, args.margin, args.strict, args.json,
+                              args.previous, args.previous_frame, args.max_pop});
+  if (!args.previous.empty() || args.previous_frame || args.max_pop)
+    throw InputError("--previous: compares feather frames (vane meshes of a feather groom); " + args.strands +
+                     " holds strands");
 
   std::optional<GroomDesc> groom;
   if (!args.groom.empty()) groom = io::read_groom_file(args.groom);
@@ -574,6 +583,13 @@ void add_check_command(CLI::App &app, int &r_exit_code) {
                   "Largest deviation of a strand at a guide root from its guide, % of the guide's length (default 0.1)")
       ->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--margin", args->margin, "Skin margin: points closer to the skin than this count as inside")
+      ->check(finite_non_negative());
+  cmd->add_option("--previous", args->previous,
+                  "Feather frames, with --groom: the previous frame's vane meshes, for order flips and popping");
+  cmd->add_option("--previous-frame", args->previous_frame, "The frame of --previous (default: --frame - 1)")
+      ->check(CLI::Range(-kMaxFrame, kMaxFrame));
+  cmd->add_option("--max-pop", args->max_pop,
+                  "With --previous: the largest popping --strict accepts (rachis widths; default: reported only)")
       ->check(finite_non_negative());
   add_threads_option(*cmd, args->threads, "Worker threads");
   cmd->add_flag("--strict", args->strict, "Exit with code 3 when a promise is broken");

@@ -1,14 +1,20 @@
 #include "app/feather_commands.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <unordered_map>
+#include <vector>
 
 #include "app/commands.h"
 #include "app/feather_pipeline.h"
 #include "app/feather_preview.h"
 #include "app/progress.h"
 #include "app/run_outputs.h"
+#include "check/feather_layers.h"
+#include "check/feather_motion.h"
 #include "check/vanes.h"
+#include "feathers/layering.h"
 #include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "io/feather_writers.h"
@@ -121,6 +127,9 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
     if (result.feathers.layering.unresolved > 0)
       std::fprintf(stderr, "plume: warning: frame %d: %lld feathers could not be turned clear of the feathers below them (shrunk toward their roots)\n",
                    frame, (long long)result.feathers.layering.unresolved);
+    if (result.feathers.layering.left_under > 0)
+      std::fprintf(stderr, "plume: warning: frame %d: %lld feathers are left under a feather the layer order puts below them (no turn frees them; plume check reports the pairs)\n",
+                   frame, (long long)result.feathers.layering.left_under);
     progress.frame_done(frame);
   }
   progress.finish();
@@ -208,18 +217,174 @@ std::vector<uint64_t> vane_feather_ids(const Mesh &mesh) {
 
 }  // namespace
 
-int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,
-                      std::optional<int> frame, float margin, bool strict, bool json) {
+namespace {
+
+std::string json_quote(const std::string &text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if ((unsigned char)c < 32) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", unsigned((unsigned char)c));
+      out += escaped;
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string json_pairs(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) {
+  std::string text = "[";
+  for (size_t e = 0; e < pairs.size(); ++e)
+    text += (e ? ", [" : "[") + std::to_string(pairs[e].first) + ", " + std::to_string(pairs[e].second) + "]";
+  return text + "]";
+}
+
+std::string text_pairs(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) {
+  std::string text;
+  for (const auto &[a, b] : pairs) text += (text.empty() ? "" : " ") + std::to_string(a) + "/" + std::to_string(b);
+  return text;
+}
+
+/// A vane mesh read back, with its feathers in file order: per feather its id and its vertices
+/// (consecutive: [first_vertex[f], first_vertex[f + 1]), as Plume writes them).
+struct VaneFile {
+  Mesh mesh;
+  std::vector<uint64_t> triangle_ids;
+  std::vector<uint64_t> feather_ids;
+  std::vector<int64_t> first_vertex;  // empty when a feather's vertices are not consecutive
+};
+
+VaneFile read_vane_file(const std::string &path) {
+  VaneFile file;
+  file.mesh = io::read_vane_mesh(path);
+  file.triangle_ids = vane_feather_ids(file.mesh);
+  // Each feather's vertices: the range its triangles use; consecutive when each range starts where
+  // the one before ended and the last ends the file.
+  std::vector<int64_t> lo, hi;
+  for (size_t t = 0; t < file.triangle_ids.size(); ++t) {
+    if (t == 0 || file.triangle_ids[t] != file.triangle_ids[t - 1]) {
+      file.feather_ids.push_back(file.triangle_ids[t]);
+      lo.push_back(INT64_MAX);
+      hi.push_back(-1);
+    }
+    for (int k = 0; k < 3; ++k) {
+      lo.back() = std::min<int64_t>(lo.back(), file.mesh.triangles[t][k]);
+      hi.back() = std::max<int64_t>(hi.back(), file.mesh.triangles[t][k]);
+    }
+  }
+  bool consecutive = !lo.empty() && lo.front() == 0 && hi.back() + 1 == int64_t(file.mesh.positions.size());
+  for (size_t f = 1; consecutive && f < lo.size(); ++f) consecutive = lo[f] == hi[f - 1] + 1;
+  if (consecutive) {
+    file.first_vertex = lo;
+    file.first_vertex.push_back(int64_t(file.mesh.positions.size()));
+  }
+  return file;
+}
+
+/// The skin at `frame` of the groom, or the mesh file.
+Mesh posed_skin(const GroomDesc &groom, int frame) {
+  return posed_emitter(groom, io::read_obj_mesh(groom.emitter_path), frame);
+}
+
+/// What a groom's coat says of a vane file: the layer order's ranks, and per feather of the file
+/// its coat index.
+struct CoatView {
+  std::unique_ptr<FeatherPipeline> pipeline;
+  feathers::CoatFrame rest;
+  feathers::LayerOrder order;
+  std::vector<size_t> coat_index;  // per feather of the file
+  std::unordered_map<uint64_t, int64_t> rank;  // by id
+};
+
+CoatView view_coat(const GroomDesc &groom, const std::string &groom_path, const VaneFile &file,
+                   const std::string &path) {
+  CoatView view;
+  // The coat without its layering pass: its rest frame is the template, and the order is the one the
+  // pass freezes (built from this rest frame, as Coat does).
+  GroomDesc unlayered = groom;
+  unlayered.feathers.layers = false;
+  const auto bind = [&](int64_t count) {
+    PipelineOptions options;
+    options.strand_count = count;
+    view.pipeline = std::make_unique<FeatherPipeline>(unlayered, options);
+  };
+  const auto index_of = [&] {
+    std::unordered_map<uint64_t, size_t> by_id;
+    const std::vector<uint64_t> &ids = view.pipeline->coat().ids();
+    for (size_t i = 0; i < ids.size(); ++i) by_id.emplace(ids[i], i);
+    view.coat_index.clear();
+    for (const uint64_t id : file.feather_ids) {
+      const auto it = by_id.find(id);
+      if (it == by_id.end()) return false;
+      view.coat_index.push_back(it->second);
+    }
+    return by_id.size() == file.feather_ids.size();
+  };
+  // As many follicles as the file has feathers: the full coat, or the subset a proxy run
+  // (plume regrow --strands N) grew, whose order is that of its own coat. Else the groom's count.
+  bind(int64_t(file.feather_ids.size()));
+  if (!index_of()) {
+    bind(-1);
+    if (!index_of())
+      throw InputError(path + ": its feathers are not " + groom_path + "'s (" + std::to_string(file.feather_ids.size()) +
+                       " feathers, not the groom's coat or a proxy of it)");
+  }
+  const feathers::Coat &coat = view.pipeline->coat();
+  view.rest = view.pipeline->rest_frame();
+  view.order = feathers::layer_order_from_coverage(view.rest, coat.ranges());
+  for (size_t i = 0; i < coat.size(); ++i) view.rank.emplace(coat.ids()[i], view.order.rank[i]);
+  // The file's vertices must be laid out as the coat's, feather by feather.
+  const feathers::FeatherRanges ranges = coat.ranges();
+  bool layout = !file.first_vertex.empty();
+  for (size_t f = 0; layout && f < view.coat_index.size(); ++f) {
+    const size_t i = view.coat_index[f];
+    layout = file.first_vertex[f + 1] - file.first_vertex[f] == ranges.first_vertex[i + 1] - ranges.first_vertex[i];
+  }
+  if (!layout)
+    throw InputError(path + ": its feathers' vane vertices are not laid out as " + groom_path +
+                     "'s coat grows them (another detail, or a mesh Plume did not write)");
+  return view;
+}
+
+/// Per feather of the file, a per-coat-feather value.
+template <class T, class F>
+std::vector<T> per_file_feather(const CoatView &view, F value) {
+  std::vector<T> out;
+  for (const size_t i : view.coat_index) out.push_back(value(i));
+  return out;
+}
+
+std::vector<SurfaceFrame> follicle_frames(const CoatView &view, const Mesh &posed) {
+  const std::vector<SurfacePoint> &follicles = view.pipeline->coat().follicles();
+  return per_file_feather<SurfaceFrame>(view, [&](size_t i) { return surface_frame(posed, follicles[i]); });
+}
+
+}  // namespace
+
+int run_feather_check(const FeatherCheckArgs &args) {
+  const bool vanes = is_vane_mesh_file(args.path) || io::detail::extension_of(args.path) == ".obj";
+  if (!args.previous.empty() && args.groom.empty())
+    throw InputError("--previous: needs --groom (the skin of both frames, the coat's follicles)");
+  if (!args.previous.empty() && !vanes)
+    throw InputError("--previous: compares vane meshes (.usda or .obj from plume regrow --vanes); " + args.path +
+                     " holds feather curves");
+  if (args.max_pop && args.previous.empty()) throw InputError("--max-pop: needs --previous, the frame to compare with");
+  if (args.previous_frame && args.previous.empty()) throw InputError("--previous-frame: needs --previous");
+
+  std::optional<GroomDesc> groom;
   Mesh skin;
   std::string skin_label;
-  if (!groom_path.empty()) {
-    const GroomDesc groom = io::read_groom_file(groom_path);
-    const int at = frame ? *frame : groom_first_frame(groom);
-    skin = posed_emitter(groom, io::read_obj_mesh(groom.emitter_path), at);
-    skin_label = groom.emitter_path + " posed at frame " + std::to_string(at);
+  int at = 0;
+  if (!args.groom.empty()) {
+    groom = io::read_groom_file(args.groom);
+    at = args.frame ? *args.frame : groom_first_frame(*groom);
+    skin = posed_skin(*groom, at);
+    skin_label = groom->emitter_path + " posed at frame " + std::to_string(at);
   } else {
-    skin = io::read_obj_mesh(mesh_path);
-    skin_label = mesh_path;
+    skin = io::read_obj_mesh(args.mesh);
+    skin_label = args.mesh;
   }
   const MeshQuery query(skin);
   Eigen::AlignedBox3f box;
@@ -229,17 +394,17 @@ int run_feather_check(const std::string &path, const std::string &mesh_path, con
   // rachis) allowed down to -eps.
   std::vector<Eigen::Vector3f> points;
   std::vector<bool> first;
-  const bool vanes = is_vane_mesh_file(path) || io::detail::extension_of(path) == ".obj";
   size_t curve_count = 0, triangle_count = 0;
   check::VaneCheckReport meets;
+  VaneFile file;
   if (vanes) {
-    const Mesh mesh = io::read_vane_mesh(path);
-    points = mesh.positions;
+    file = read_vane_file(args.path);
+    points = file.mesh.positions;
     first.assign(points.size(), false);
-    triangle_count = mesh.triangle_count();
-    meets = check::check_vanes(mesh.positions, mesh.triangles, vane_feather_ids(mesh));
+    triangle_count = file.mesh.triangle_count();
+    meets = check::check_vanes(file.mesh.positions, file.mesh.triangles, file.triangle_ids);
   } else {
-    const StrandSet curves = io::read_strands(path);
+    const StrandSet curves = io::read_strands(args.path);
     points = curves.positions;
     first.assign(points.size(), false);
     for (size_t c = 0; c < curves.strand_count(); ++c) first[size_t(curves.offsets[c])] = true;
@@ -247,57 +412,125 @@ int run_feather_check(const std::string &path, const std::string &mesh_path, con
   }
   size_t below = 0;
   float deepest = 0.0f;
+  const float margin = args.margin;
 #pragma omp parallel for schedule(static) reduction(+ : below) reduction(min : deepest)
   for (int64_t v = 0; v < int64_t(points.size()); ++v) {
     const float d = query.signed_distance(points[size_t(v)]);
     if (d < (first[size_t(v)] ? 0.0f : margin) - eps) ++below;
     deepest = std::min(deepest, d);
   }
+
+  // With the groom: the order and the templates; with the previous frame: flips and popping.
+  const bool layered = vanes && groom.has_value() && !file.feather_ids.empty();
+  check::LayerOrderReport order;
+  check::ShapeDrift drift;
+  check::OrderFlips flips;
+  check::Popping pop;
+  int64_t samples = 0, broken_at_rest = 0;
+  int previous_at = 0;
+  if (layered) {
+    const CoatView view = view_coat(*groom, args.groom, file, args.path);
+    broken_at_rest = int64_t(view.order.broken.size());
+    const check::VaneOverlaps overlaps =
+        check::vane_overlaps(file.mesh.positions, file.mesh.triangles, file.triangle_ids, skin, query);
+    samples = overlaps.samples;
+    order = check::layer_order_violations(overlaps, view.rank);
+    const feathers::Coat &coat = view.pipeline->coat();
+    const feathers::FeatherRanges ranges = coat.ranges();
+    std::vector<Eigen::Vector3f> template_positions;
+    template_positions.reserve(points.size());
+    for (const size_t i : view.coat_index)
+      for (int64_t v = ranges.first_vertex[i]; v < ranges.first_vertex[i + 1]; ++v)
+        template_positions.push_back(view.rest.vanes.positions[size_t(v)]);
+    const std::vector<float> lengths = per_file_feather<float>(view, [&](size_t i) {
+      return coat.shapes()[i].main.calamus_length + coat.shapes()[i].main.rachis_length;
+    });
+    drift = check::shape_drift(file.mesh.positions, template_positions, file.first_vertex, lengths, file.feather_ids);
+    if (!args.previous.empty()) {
+      previous_at = args.previous_frame ? *args.previous_frame : at - 1;
+      const VaneFile before = read_vane_file(args.previous);
+      if (before.feather_ids != file.feather_ids || before.first_vertex != file.first_vertex ||
+          before.mesh.triangles != file.mesh.triangles)
+        throw InputError("--previous: " + args.previous + " holds other feathers than " + args.path +
+                         " (another groom, count or detail)");
+      const Mesh previous_skin = posed_skin(*groom, previous_at);
+      const MeshQuery previous_query(previous_skin);
+      const check::VaneOverlaps previous_overlaps = check::vane_overlaps(
+          before.mesh.positions, before.mesh.triangles, before.triangle_ids, previous_skin, previous_query);
+      flips = check::order_flips(previous_overlaps, overlaps);
+      const std::vector<float> widths =
+          per_file_feather<float>(view, [&](size_t i) { return coat.shapes()[i].main.rachis_width; });
+      pop = check::popping(before.mesh.positions, file.mesh.positions, file.first_vertex,
+                           follicle_frames(view, previous_skin), follicle_frames(view, skin), widths, file.feather_ids);
+    }
+  }
+  const bool compared = layered && !args.previous.empty();
   const bool meet = meets.feather_pairs > 0;
-  const int exit_code = strict && (below > 0 || meet) ? kExitViolations : 0;
-  if (json) {
-    auto quote = [](const std::string &text) {
-      std::string out = "\"";
-      for (const char c : text) {
-        if (c == '"' || c == '\\') out += '\\';
-        if ((unsigned char)c < 32) {
-          char escaped[8];
-          std::snprintf(escaped, sizeof escaped, "\\u%04x", unsigned((unsigned char)c));
-          out += escaped;
-          continue;
-        }
-        out += c;
-      }
-      return out + "\"";
-    };
-    std::printf("{\"file\": %s, \"kind\": \"%s\", \"mesh\": %s, \"curves\": %zu, \"points\": %zu, ", quote(path).c_str(),
-                vanes ? "vane mesh" : "feather curves", quote(skin_label).c_str(), curve_count, points.size());
+  const bool popped = compared && args.max_pop && pop.largest > *args.max_pop;
+  const bool clean = below == 0 && !meet && order.violations == 0 && flips.flips == 0 && !popped;
+  const int exit_code = args.strict && !clean ? kExitViolations : 0;
+  std::vector<std::string> violations;
+  if (below > 0) violations.push_back(std::to_string(below) + " points below the skin");
+  if (meet) violations.push_back(std::to_string(meets.feather_pairs) + " feather pairs meet");
+  if (order.violations > 0) violations.push_back(std::to_string(order.violations) + " layer-order violations");
+  if (flips.flips > 0) violations.push_back(std::to_string(flips.flips) + " order flips");
+  if (popped) {
+    char text[128];
+    std::snprintf(text, sizeof text, "popping %.4g rachis widths over the bound %g", pop.largest, *args.max_pop);
+    violations.push_back(text);
+  }
+
+  if (args.json) {
+    std::printf("{\"file\": %s, \"kind\": \"%s\", \"mesh\": %s, \"curves\": %zu, \"points\": %zu, ",
+                json_quote(args.path).c_str(), vanes ? "vane mesh" : "feather curves", json_quote(skin_label).c_str(),
+                curve_count, points.size());
     std::printf("\"inside_skin\": {\"points\": %zu, \"margin\": %.9g, \"deepest\": %.9g}, ", below, double(margin),
                 double(deepest));
     if (vanes) {
       std::printf("\"feathers\": %zu, \"vane_pairs\": {\"feather_pairs\": %lld, \"intersecting_triangle_pairs\": %lld, "
                   "\"touching_triangle_pairs\": %lld, \"triangle_pairs_tested\": %lld, \"thickness\": %.9g, "
-                  "\"examples\": [",
+                  "\"examples\": %s}, ",
                   meets.feathers, (long long)meets.feather_pairs, (long long)meets.intersecting_triangle_pairs,
-                  (long long)meets.touching_triangle_pairs, (long long)meets.triangle_pairs_tested, meets.thickness);
-      for (size_t e = 0; e < meets.examples.size(); ++e)
-        std::printf("%s[%llu, %llu]", e ? ", " : "", (unsigned long long)meets.examples[e].a,
-                    (unsigned long long)meets.examples[e].b);
-      std::printf("]}, ");
+                  (long long)meets.touching_triangle_pairs, (long long)meets.triangle_pairs_tested, meets.thickness,
+                  json_pairs([&] {
+                    std::vector<std::pair<uint64_t, uint64_t>> pairs;
+                    for (const check::VanePair &p : meets.examples) pairs.emplace_back(p.a, p.b);
+                    return pairs;
+                  }()).c_str());
+    }
+    if (layered) {
+      std::printf("\"layer_order\": {\"overlapping_pairs\": %lld, \"violations\": %lld, \"unranked_pairs\": %lld, "
+                  "\"samples\": %lld, \"broken_at_rest\": %lld, \"examples\": %s}, ",
+                  (long long)order.overlapping_pairs, (long long)order.violations, (long long)order.unranked_pairs,
+                  (long long)samples, (long long)broken_at_rest, json_pairs(order.examples).c_str());
+      std::printf("\"shape_drift\": {\"mean_percent\": %.9g, \"max_percent\": %.9g, \"worst_feather\": %llu}, ",
+                  100.0 * drift.mean, 100.0 * drift.largest, (unsigned long long)drift.worst_feather);
+    }
+    if (compared) {
+      std::printf("\"previous\": {\"file\": %s, \"frame\": %d, \"order_flips\": {\"pairs_in_both\": %lld, \"flips\": "
+                  "%lld, \"examples\": %s}, \"popping\": {\"largest_rachis_widths\": %.9g, \"largest_distance\": %.9g, "
+                  "\"worst_feather\": %llu, \"mean_rachis_widths\": %.9g, \"bound\": ",
+                  json_quote(args.previous).c_str(), previous_at, (long long)flips.pairs_in_both,
+                  (long long)flips.flips, json_pairs(flips.examples).c_str(), pop.largest, pop.largest_distance,
+                  (unsigned long long)pop.worst_feather, pop.mean);
+      if (args.max_pop)
+        std::printf("%.9g", *args.max_pop);
+      else
+        std::printf("null");
+      std::printf(", \"over_bound\": %s}}, ", popped ? "true" : "false");
     }
     std::printf("\"violations\": [");
-    if (below > 0) std::printf("\"%zu points below the skin\"%s", below, meet ? ", " : "");
-    if (meet) std::printf("\"%lld feather pairs meet\"", (long long)meets.feather_pairs);
-    std::printf("], \"clean\": %s, \"strict\": %s, \"exit_code\": %d}\n", below == 0 && !meet ? "true" : "false",
-                strict ? "true" : "false", exit_code);
+    for (size_t v = 0; v < violations.size(); ++v) std::printf("%s%s", v ? ", " : "", json_quote(violations[v]).c_str());
+    std::printf("], \"clean\": %s, \"strict\": %s, \"exit_code\": %d}\n", clean ? "true" : "false",
+                args.strict ? "true" : "false", exit_code);
     return exit_code;
   }
   if (vanes)
-    std::printf("%s: vane mesh, %zu vertices, %zu triangles, against %s\n", path.c_str(), points.size(), triangle_count,
-                skin_label.c_str());
+    std::printf("%s: vane mesh, %zu vertices, %zu triangles, against %s\n", args.path.c_str(), points.size(),
+                triangle_count, skin_label.c_str());
   else
-    std::printf("%s: feather curves, %zu curves, %zu points, against %s\n", path.c_str(), curve_count, points.size(),
-                skin_label.c_str());
+    std::printf("%s: feather curves, %zu curves, %zu points, against %s\n", args.path.c_str(), curve_count,
+                points.size(), skin_label.c_str());
   std::printf("  points below the skin (margin %g): %zu (deepest %g)\n", double(margin), below, double(deepest));
   if (vanes) {
     std::printf("  feather pairs whose vanes meet: %lld of %zu feathers (%lld triangle pairs intersect, %lld touch "
@@ -309,7 +542,26 @@ int run_feather_check(const std::string &path, const std::string &mesh_path, con
   } else {
     std::printf("  feather against feather: judged on vane meshes\n");
   }
-  std::printf("  %s\n", below == 0 && !meet ? "clean" : "VIOLATIONS");
+  if (layered) {
+    std::printf("  layer order (frozen at rest; %lld coverings broken there): %lld feather pairs overlap along the "
+                "skin normal, %lld with a lower feather outside a higher one%s%s\n",
+                (long long)broken_at_rest, (long long)order.overlapping_pairs, (long long)order.violations,
+                order.examples.empty() ? "" : "  lower/higher: ", text_pairs(order.examples).c_str());
+    std::printf("  shape drift from the rest shape: mean %.3g%%, largest %.3g%% of the feather's length (feather %llu)\n",
+                100.0 * drift.mean, 100.0 * drift.largest, (unsigned long long)drift.worst_feather);
+  } else if (vanes) {
+    std::printf("  layer order and shape drift: not checked (give --groom)\n");
+  }
+  if (compared) {
+    std::printf("  against %s (frame %d): %lld order flips of %lld pairs overlapping in both%s%s\n",
+                args.previous.c_str(), previous_at, (long long)flips.flips, (long long)flips.pairs_in_both,
+                flips.examples.empty() ? "" : "  outer before/now: ", text_pairs(flips.examples).c_str());
+    std::printf("    popping: largest %.4g rachis widths (feather %llu, %g), mean %.4g", pop.largest,
+                (unsigned long long)pop.worst_feather, pop.largest_distance, pop.mean);
+    if (args.max_pop) std::printf("; bound %g", *args.max_pop);
+    std::printf("\n");
+  }
+  std::printf("  %s\n", clean ? "clean" : "VIOLATIONS");
   return exit_code;
 }
 

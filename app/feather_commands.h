@@ -60,15 +60,31 @@ bool is_feather_check(const std::string &path, const std::string &groom_path);
 /// `plume info` of a vane mesh file.
 void print_vane_mesh_info(const std::string &path);
 
-/// `plume check` of feather curves or vane meshes against the emitter at their pose (`mesh_path`, or
-/// the emitter of `groom_path` posed at `frame`, default the groom's first): every point or vertex
-/// below the skin (signed distance below margin - eps, eps = 1e-5 x the emitter's bounding-box
-/// diagonal, as for strands; a curve's first point below -eps). Feather against feather is not
-/// judged on curves; on vane meshes, every pair of feathers whose vanes intersect or touch
-/// (check/vanes.h) is a violation. With `json`, the report is one JSON object: file, kind ("feather curves" or "vane
-/// mesh"), mesh, curves, points, inside_skin {points, margin, deepest}, violations, clean, strict,
-/// exit_code. Returns the exit code (kExitViolations under `strict` when any point is below).
-int run_feather_check(const std::string &path, const std::string &mesh_path, const std::string &groom_path,
-                      std::optional<int> frame, float margin, bool strict, bool json);
+/// What `plume check` was asked of a feather frame.
+struct FeatherCheckArgs {
+  std::string path;   // feather curves or vane meshes
+  std::string mesh;   // the emitter at their pose (or give groom)
+  std::string groom;  // the feather groom (its emitter posed at frame, its coat's order and templates)
+  std::optional<int> frame;  // with groom; default its first
+  float margin = 0.0f;
+  bool strict = false;
+  bool json = false;
+  /// With groom and vane meshes: the previous frame's vane meshes, at previous_frame (default frame - 1).
+  std::string previous;
+  std::optional<int> previous_frame;
+  /// With previous: the largest popping (rachis widths) --strict accepts; none: popping is reported only.
+  std::optional<double> max_pop;
+};
+
+/// `plume check` of feather curves or vane meshes against the emitter at their pose (`mesh`, or the
+/// emitter of `groom` posed at `frame`): every point or vertex below the skin (signed distance below
+/// margin - eps, eps = 1e-5 x the emitter's bounding-box diagonal, as for strands; a curve's first
+/// point below -eps). Feather against feather is judged on vane meshes only: every pair of feathers
+/// whose vanes intersect or touch (check/vanes.h); with a groom, layer-order violations against the
+/// order its coat freezes at rest (check/feather_layers.h) and the shape drift from the rest shape
+/// (check/feather_motion.h); with `previous`, order flips and popping between the two frames. With
+/// `json`, one JSON object (docs/check.md lists its fields). Returns the exit code (kExitViolations
+/// under `strict` when a promise is broken or popping exceeds max_pop).
+int run_feather_check(const FeatherCheckArgs &args);
 
 }  // namespace plume

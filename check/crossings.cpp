@@ -11,45 +11,13 @@
 
 #include "check/check.h"
 #include "groom/error.h"
+#include "groom/segment_distance.h"
 
 namespace plume::check {
 
 namespace {
 
 using Eigen::Vector3f;
-
-/// Squared distance between segments p0-p1 and q0-q1 (closest points, clamped to both segments;
-/// Ericson, Real-Time Collision Detection, 5.1.9), in double precision: float coordinates are exact
-/// in double, so the rounding is far below any tolerance at any scale. Segments whose directions'
-/// cross product is below 1e-14 of their lengths' product are taken as parallel (s = 0, then t).
-double segment_distance_squared(const Vector3f &p0_in, const Vector3f &p1_in, const Vector3f &q0_in,
-                                const Vector3f &q1_in) {
-  const Eigen::Vector3d p0 = p0_in.cast<double>(), q0 = q0_in.cast<double>();
-  const Eigen::Vector3d d1 = p1_in.cast<double>() - p0, d2 = q1_in.cast<double>() - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 0.0 && e <= 0.0) return r.squaredNorm();
-  if (a <= 0.0) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 0.0) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 1e-14 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return ((p0 + d1 * s) - (q0 + d2 * t)).squaredNorm();
-}
 
 /// |cos| of the angle between the lines of segments p0-p1 and q0-q1; 1 (parallel) when either has
 /// no length, so a segment without a direction never makes a crossing transversal.

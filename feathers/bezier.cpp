@@ -1,10 +1,32 @@
 #include "feathers/bezier.h"
 
+#include <array>
+
 #include "groom/error.h"
 
 namespace plume::feathers {
 
+namespace {
+
+/// de Casteljau on N vertices, unrolled: the same operations in the same order as the loop below
+/// (so the same bits), kept in registers. Through memory, each level's loads waited on the stores
+/// of the level before.
+template <size_t N>
+Eigen::Vector3f de_casteljau(const Eigen::Vector3f *points, float u) {
+  std::array<Eigen::Vector3f, N> work;
+  for (size_t i = 0; i < N; ++i) work[i] = points[i];
+  const float a = 1.0f - u;
+  for (size_t level = N; level > 1; --level)
+    for (size_t i = 0; i + 1 < level; ++i) work[i] = a * work[i] + u * work[i + 1];
+  return work[0];
+}
+
+}  // namespace
+
 Eigen::Vector3f bezier_point(std::span<const Eigen::Vector3f> points, float u) {
+  // The cubics of barbs and rachises, and their derivatives' quadratics, in registers.
+  if (points.size() == 4) return de_casteljau<4>(points.data(), u);
+  if (points.size() == 3) return de_casteljau<3>(points.data(), u);
   std::array<Eigen::Vector3f, max_barb_control_points> work;
   const size_t n = points.size();
   for (size_t i = 0; i < n; ++i) work[i] = points[i];

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -69,23 +70,46 @@ struct VanesOut {
 
 namespace detail {
 
+/// The Bernstein weights of one degree at a barb's even parameters u_j = j / (point_count - 1), a
+/// block of points at a time, kept while the barbs that follow have the same degree and point count
+/// (those of a vane mostly do). Computed per point right before the sums that read them, the weights'
+/// loads waited on their stores (a sixth of the time spent writing barbs).
+class BernsteinBlock {
+ public:
+  /// The weights B^(count-1)_i(u_j), i < count, for point j of a barb of point_count points.
+  const float *at(int count, int point_count, int j) {
+    if (count != count_ || point_count != point_count_ || j < first_ || j >= first_ + kPoints) {
+      count_ = count;
+      point_count_ = point_count;
+      first_ = j - j % kPoints;
+      for (int k = first_; k < std::min(point_count, first_ + kPoints); ++k)
+        bernstein_weights(count - 1, float(k) / float(point_count - 1), weights_[size_t(k - first_)].data());
+    }
+    return weights_[size_t(j - first_)].data();
+  }
+
+ private:
+  static constexpr int kPoints = 32;
+  int count_ = -1, point_count_ = -1, first_ = 0;
+  std::array<std::array<float, max_barb_control_points>, kPoints> weights_;
+};
+
 /// One barb's points into the arrays: barb_points samples of its Bezier curve at even parameters.
-template <class Pose>
-void emit_barb(const Barb &barb, const Eigen::Vector3f &offset, const Pose &pose_at, int point_count,
-               float barb_width, float rp, float flat_length, const Eigen::Vector3f &placed_at,
-               Eigen::Vector3f *r_positions, float *r_widths, Eigen::Vector2f *r_uv_barb, Eigen::Vector2f *r_uv_vane) {
+/// `pose` is the shaft's at the barb's attachment, barb.attach + offset.
+inline void emit_barb(const Barb &barb, const Eigen::Vector3f &offset, const ShaftPose &pose, int point_count,
+                      float barb_width, float rp, float flat_length, const Eigen::Vector3f &placed_at,
+                      BernsteinBlock &bernstein, Eigen::Vector3f *r_positions, float *r_widths,
+                      Eigen::Vector2f *r_uv_barb, Eigen::Vector2f *r_uv_vane) {
   const Eigen::Vector3f attach = barb.attach + offset;
-  const ShaftPose pose = pose_at(attach.z());
   // The polygon goes to the world first (Bezier curves are affine invariant), then is sampled.
   const Eigen::Matrix3f to_world = pose.rotation * barb.frame;
   const Eigen::Vector3f base = pose.origin + pose.rotation * Eigen::Vector3f(attach.x(), attach.y(), 0.0f);
   ControlPolygon world;
   world.count = barb.polygon.count;
   for (int i = 0; i < world.count; ++i) world.points[size_t(i)] = base + to_world * barb.polygon.points[size_t(i)];
-  float weights[max_barb_control_points];
   for (int j = 0; j < point_count; ++j) {
     const float u = float(j) / float(point_count - 1);
-    bernstein_weights(world.degree(), u, weights);
+    const float *weights = bernstein.at(world.count, point_count, j);
     Eigen::Vector3f p = Eigen::Vector3f::Zero();
     Eigen::Vector3f local = Eigen::Vector3f::Zero();
     for (int i = 0; i < world.count; ++i) {
@@ -127,22 +151,31 @@ void emit_part_curves(const FeatherShape &shape, bool after, const FeatherDetail
     const float t = float(i) / float(detail.rachis_points - 1);
     rachis_sample(rachis_point(f, t), f.calamus_length + f.rachis_length * t, t);
   }
+  // The left barbs, then the right ones; computed a position at a time, as both barbs there leave
+  // the rachis at one point and frame, and follow one shaft pose.
   const std::vector<float> &positions = after ? shape.after_positions : shape.main_positions;
-  for (const Vane vane : {Vane::left, Vane::right}) {
-    const std::vector<KeyBarb> &keys = (after ? shape.after_keys : shape.main_keys)[size_t(vane)];
-    const FeatherPart part = after ? (vane == Vane::left ? FeatherPart::after_left_barb : FeatherPart::after_right_barb)
-                                   : (vane == Vane::left ? FeatherPart::left_barb : FeatherPart::right_barb);
-    for (size_t j = 0; j < positions.size(); ++j) {
-      const float rp = positions[j];
-      const Barb barb = build_barb(f, keys, vane, rp, int(j), after ? ~shape.seed : shape.seed);
-      emit_barb(barb, offset, pose_at, detail.barb_points, f.barb_width, rp, flat_length, out.offset,
-                out.positions ? out.positions + r_point : nullptr, out.widths ? out.widths + r_point : nullptr,
-                out.uv_barb ? out.uv_barb + r_point : nullptr, out.uv_vane ? out.uv_vane + r_point : nullptr);
-      if (out.parts) out.parts[r_curve] = part;
-      r_point += detail.barb_points;
-      ++r_curve;
+  const int64_t count = int64_t(positions.size());
+  const std::array<std::vector<KeyBarb>, 2> &keys = after ? shape.after_keys : shape.main_keys;
+  const uint64_t seed = after ? ~shape.seed : shape.seed;
+  std::array<VaneBarbs, 2> barbs = {VaneBarbs(f, keys[0], Vane::left, seed), VaneBarbs(f, keys[1], Vane::right, seed)};
+  std::array<BernsteinBlock, 2> bernstein;  // per vane
+  for (int64_t j = 0; j < count; ++j) {
+    const float rp = positions[size_t(j)];
+    const BarbAttachment attachment = barb_attachment(f, rp);
+    const ShaftPose pose = pose_at(attachment.point.z() + offset.z());
+    for (const Vane vane : {Vane::left, Vane::right}) {
+      const Barb barb = barbs[size_t(vane)](rp, int(j), attachment);
+      const int64_t curve = r_curve + int64_t(vane) * count + j, point = r_point + (curve - r_curve) * detail.barb_points;
+      emit_barb(barb, offset, pose, detail.barb_points, f.barb_width, rp, flat_length, out.offset, bernstein[size_t(vane)],
+                out.positions ? out.positions + point : nullptr, out.widths ? out.widths + point : nullptr,
+                out.uv_barb ? out.uv_barb + point : nullptr, out.uv_vane ? out.uv_vane + point : nullptr);
+      if (out.parts)
+        out.parts[curve] = after ? (vane == Vane::left ? FeatherPart::after_left_barb : FeatherPart::after_right_barb)
+                                 : (vane == Vane::left ? FeatherPart::left_barb : FeatherPart::right_barb);
     }
   }
+  r_point += 2 * count * detail.barb_points;
+  r_curve += 2 * count;
 }
 
 template <class Pose>
@@ -152,14 +185,15 @@ void emit_part_vanes(const FeatherShape &shape, bool after, const FeatherDetail 
   const Eigen::Vector3f offset = after ? afterfeather_offset(shape.main) : Eigen::Vector3f::Zero();
   const float flat_length = std::max(f.calamus_length + f.rachis_length, 1e-30f);
   const int rows = detail.vane_rows, columns = detail.vane_columns;
+  BernsteinBlock bernstein;
   for (const Vane vane : {Vane::left, Vane::right}) {
-    const std::vector<KeyBarb> &keys = (after ? shape.after_keys : shape.main_keys)[size_t(vane)];
+    VaneBarbs barbs(f, (after ? shape.after_keys : shape.main_keys)[size_t(vane)], vane, shape.seed);
     const int64_t first = r_vertex;
     for (int r = 0; r < rows; ++r) {
       const float rp = float(r) / float(rows - 1);
-      const Barb barb = build_barb(f, keys, vane, rp, -1, shape.seed);
-      emit_barb(barb, offset, pose_at, columns + 1, 0.0f, rp, flat_length, out.offset,
-                out.positions ? out.positions + r_vertex : nullptr, nullptr,
+      const Barb barb = barbs(rp, -1, barb_attachment(f, rp));
+      emit_barb(barb, offset, pose_at(barb.attach.z() + offset.z()), columns + 1, 0.0f, rp, flat_length, out.offset,
+                bernstein, out.positions ? out.positions + r_vertex : nullptr, nullptr,
                 out.uv_barb ? out.uv_barb + r_vertex : nullptr, out.uv_vane ? out.uv_vane + r_vertex : nullptr);
       r_vertex += columns + 1;
     }

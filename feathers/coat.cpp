@@ -171,10 +171,14 @@ struct Spine {
   }
 };
 
-/// One sample of the skin pass: a feather point (relative to the root) and the clearance it needs.
+/// One sample of the skin pass: a feather point (relative to the root) and the clearance it needs,
+/// and up to two samples before it nearby (-1: none), whose distances bound its own (the signed
+/// distance is 1-Lipschitz): the rachis point below it, or the barb point nearer the rachis, and the
+/// same point of the row below.
 struct SkinSample {
   Eigen::Vector3f point;
   float clearance;
+  std::array<int, 2> near = {-1, -1};
 };
 
 /// The points the skin pass checks, in the world at the spine's pose: the calamus's middle, and per
@@ -184,28 +188,40 @@ struct SkinSample {
 int skin_samples(const FeatherShape &shape, const Spine &spine, float clearance, SkinSample *r_samples) {
   int count = 0;
   // As emit_curves places points: a barb's points follow the shaft's pose at the barb's attachment.
-  auto add = [&](const Eigen::Vector3f &p_feather, float attach_z, float extra) {
+  auto add = [&](const Eigen::Vector3f &p_feather, float attach_z, float extra, int near_a, int near_b) {
     const ShaftPose pose = spine(attach_z);
     const Eigen::Vector3f p =
         pose.origin + pose.rotation * (p_feather - Eigen::Vector3f(0.0f, 0.0f, attach_z));
-    r_samples[count++] = {p, clearance * p.norm() + extra};
+    r_samples[count] = {p, clearance * p.norm() + extra, {near_a, near_b}};
+    return count++;
   };
-  add(Eigen::Vector3f(0.0f, 0.0f, 0.5f * shape.main.calamus_length), 0.5f * shape.main.calamus_length, 0.0f);
+  const int calamus =
+      add(Eigen::Vector3f(0.0f, 0.0f, 0.5f * shape.main.calamus_length), 0.5f * shape.main.calamus_length, 0.0f, -1, -1);
   for (const bool after : {false, true}) {
     if (after && !shape.has_after) break;
     const FeatherTemplate &f = after ? shape.after : shape.main;
     const Eigen::Vector3f offset = after ? afterfeather_offset(shape.main) : Eigen::Vector3f::Zero();
     const int rows = after ? 3 : kSkinRows;
+    const std::array<std::vector<KeyBarb>, 2> &keys = after ? shape.after_keys : shape.main_keys;
+    std::array<VaneBarbs, 2> barbs = {VaneBarbs(f, keys[0], Vane::left, 0), VaneBarbs(f, keys[1], Vane::right, 0)};
+    // The previous row's samples: rachis, then per vane the barb's midpoint and tip.
+    std::array<int, 5> below = {calamus, -1, -1, -1, -1};
     for (int r = 0; r < rows; ++r) {
       const float rp = float(r) / float(rows - 1);
-      const Eigen::Vector3f rachis = rachis_point(f, rp) + offset;
-      add(rachis, rachis.z(), 0.0f);
+      const BarbAttachment attachment = barb_attachment(f, rp);
+      const Eigen::Vector3f rachis = attachment.point + offset;
+      std::array<int, 5> row;
+      row[0] = add(rachis, rachis.z(), 0.0f, below[0], -1);
       for (const Vane vane : {Vane::left, Vane::right}) {
-        const Barb barb = build_barb(f, (after ? shape.after_keys : shape.main_keys)[size_t(vane)], vane, rp, -1, 0);
+        const Barb barb = barbs[size_t(vane)](rp, -1, attachment);
         const float extra = kFuzzMargin * barb.plumulaceous * barb.length;
         const Eigen::Vector3f attach = barb.attach + offset;
-        for (const float u : {0.5f, 1.0f}) add(attach + barb.frame * bezier_point(barb.polygon.view(), u), attach.z(), extra);
+        const size_t at = 1 + 2 * size_t(vane);
+        row[at] = add(attach + barb.frame * bezier_point(barb.polygon.view(), 0.5f), attach.z(), extra, row[0], below[at]);
+        row[at + 1] = add(attach + barb.frame * bezier_point(barb.polygon.view(), 1.0f), attach.z(), extra, row[at],
+                          below[at + 1]);
       }
+      below = row;
     }
   }
   return count;
@@ -222,8 +238,10 @@ constexpr int kMaxSkinSamples = 1 + 5 * kSkinRows + 5 * 3;
 /// steps and to 1e-6 radians by bisection (finer, the distances' float rounding would not resolve). Where that does not converge (a sample in a fold of the
 /// skin, whose closest point is on another part), a scan of the whole range for the first angle that
 /// clears, refined by bisection; with none, the angle of the smallest worst deficit. Queries are
-/// skipped for samples whose last distance, less the way they moved since (the distance is
-/// 1-Lipschitz), still clears.
+/// skipped for samples that a bound shows to clear (the distance is 1-Lipschitz): their last
+/// distance less the way they moved since, or, on a closed skin, a nearby sample's distance at this
+/// angle less how far apart the two are (a turn keeps that). Only the sign of a clearing answer is
+/// used, and a sample that does not clear is always queried, so the skips change no result.
 struct Lift {
   float angle = 0.0f;
   float scale = 1.0f;
@@ -236,24 +254,60 @@ Lift lift_off_skin(const SkinSample *samples, int count, const Eigen::Vector3f &
   known_distance.fill(-INFINITY);
   known_at.fill(0.0f);
   known_rate.fill(1.0f);
+  // How far each sample is from its nearby ones (a turn about the root keeps it), and the rounding a
+  // bound through them must beat: the distances are floats at the skin's coordinates.
+  std::array<std::array<float, 2>, kMaxSkinSamples> apart;
+  const bool closed = !grid.has_open_edges();
+  for (int s = 0; s < count; ++s)
+    for (size_t k = 0; k < 2; ++k) {
+      const int other = samples[s].near[k];
+      apart[size_t(s)][k] = other >= 0 ? (samples[s].point - samples[other].point).norm() : INFINITY;
+    }
+  const float rounding = 1e-5f * root.cwiseAbs().maxCoeff();
+  // A lower bound of each sample's signed distance at the angle being evaluated.
+  std::array<float, kMaxSkinSamples> lower;
+  // Per sample, its closest triangle when last queried, and at this angle (-1: not queried).
+  std::array<int, kMaxSkinSamples> known_triangle, near_triangle;
+  known_triangle.fill(-1);
   // The largest turn the samples ask for at `angle` (negative when they all clear).
   auto evaluate = [&](float angle) {
     const Eigen::Matrix3f turn = Eigen::AngleAxisf(angle, axis).toRotationMatrix();
+    near_triangle.fill(-1);
     float worst = -INFINITY;
     for (int s = 0; s < count; ++s) {
       const float reach = samples[s].point.norm();
       const float moved = std::abs(angle - known_at[size_t(s)]) * reach;
       if (known_distance[size_t(s)] - moved - samples[s].clearance > 0.0f) {
-        worst = std::max(worst, (samples[s].clearance - (known_distance[size_t(s)] - moved)) / known_rate[size_t(s)]);
+        lower[size_t(s)] = known_distance[size_t(s)] - moved;
+        worst = std::max(worst, (samples[s].clearance - lower[size_t(s)]) / known_rate[size_t(s)]);
         continue;
       }
+      if (closed) {
+        float bound = -INFINITY;
+        for (size_t k = 0; k < 2; ++k)
+          if (samples[s].near[k] >= 0) bound = std::max(bound, lower[size_t(samples[s].near[k])] - apart[size_t(s)][k]);
+        if (bound - samples[s].clearance > rounding + 1e-5f * reach) {
+          lower[size_t(s)] = bound;
+          worst = std::max(worst, (samples[s].clearance - bound) / known_rate[size_t(s)]);
+          continue;
+        }
+      }
       const Eigen::Vector3f relative = turn * samples[s].point;
+      // The search starts from the sample's last closest triangle, else its nearby sample's at this
+      // angle, else the follicle's: the nearer the start, the fewer cells searched.
+      const int near = samples[s].near[0];
+      const int start = known_triangle[size_t(s)] >= 0 ? known_triangle[size_t(s)]
+                        : near >= 0 && near_triangle[size_t(near)] >= 0 ? near_triangle[size_t(near)]
+                                                                          : hint;
       SurfacePoint closest;
-      const float distance = grid.signed_distance(root + relative, hint, closest);
+      const float distance = grid.signed_distance(root + relative, start, closest);
+      known_triangle[size_t(s)] = closest.triangle;
+      near_triangle[size_t(s)] = closest.triangle;
       const float rate = std::max(query.side_normal(closest).dot(axis.cross(relative)), kMinimumRate * reach);
       known_distance[size_t(s)] = distance;
       known_at[size_t(s)] = angle;
       known_rate[size_t(s)] = std::max(rate, 1e-30f);
+      lower[size_t(s)] = distance;
       worst = std::max(worst, (samples[s].clearance - distance) / known_rate[size_t(s)]);
     }
     return worst;

@@ -202,8 +202,9 @@ std::array<Eigen::Vector3f, 4> rachis_control_points(const FeatherTemplate &f) {
           Eigen::Vector3f(side, front, c + r * 2.0f / 3.0f), Eigen::Vector3f(0.0f, 0.0f, c + r)};
 }
 
-Eigen::Vector3f rachis_point(const FeatherTemplate &f, float t) {
-  const std::array<Eigen::Vector3f, 4> cv = rachis_control_points(f);
+namespace {
+
+Eigen::Vector3f rachis_point_of(const FeatherTemplate &f, const std::array<Eigen::Vector3f, 4> &cv, float t) {
   Eigen::Vector3f p = bezier_point(cv, t);
   // z is linear in t (evenly spaced control heights); set it exactly, as the barbs' heights are used
   // to find their place on the shaft.
@@ -211,14 +212,24 @@ Eigen::Vector3f rachis_point(const FeatherTemplate &f, float t) {
   return p;
 }
 
-Eigen::Matrix3f rachis_frame(const FeatherTemplate &f, float t) {
-  const std::array<Eigen::Vector3f, 4> cv = rachis_control_points(f);
+Eigen::Matrix3f rachis_frame_of(const std::array<Eigen::Vector3f, 4> &cv, float t) {
   Eigen::Vector3f tangent = bezier_derivative(cv, t);
   // dz/dt = r_l > 0: the tangent always points tip-ward, so the rotation from z is well defined; a
   // zero-length rachis (a growing feather's first instant) keeps the shaft's axes.
   if (!(tangent.z() > 0.0f)) return Eigen::Matrix3f::Identity();
   tangent.normalize();
   return rotation_from_z(tangent);
+}
+
+}  // namespace
+
+Eigen::Vector3f rachis_point(const FeatherTemplate &f, float t) { return rachis_point_of(f, rachis_control_points(f), t); }
+
+Eigen::Matrix3f rachis_frame(const FeatherTemplate &f, float t) { return rachis_frame_of(rachis_control_points(f), t); }
+
+BarbAttachment barb_attachment(const FeatherTemplate &f, float rp) {
+  const std::array<Eigen::Vector3f, 4> cv = rachis_control_points(f);
+  return {rachis_point_of(f, cv, rp), rachis_frame_of(cv, rp)};
 }
 
 float shaft_width(const FeatherTemplate &f, float z) {
@@ -280,11 +291,54 @@ FeatherShape make_shape(const FeatherTemplate &adult, uint64_t seed, float stage
 
 Barb build_barb(const FeatherTemplate &f, std::span<const KeyBarb> keys, Vane vane, float rp, int index,
                 uint64_t seed) {
+  return VaneBarbs(f, keys, vane, seed)(rp, index, barb_attachment(f, rp));
+}
+
+KeyBarbBlend VaneBarbs::blend(float rp) {
+  // interpolate_key_barbs's steps, with the elevated pair kept.
+  const std::span<const KeyBarb> completed = keys_;
+  size_t above = 0;
+  while (above < completed.size() && completed[above].position <= rp) ++above;
+  if (above == 0 || (above < completed.size() && completed[above - 1].position == rp) || above == completed.size())
+    return interpolate_key_barbs(completed, rp);
+  const KeyBarb &below = completed[above - 1], &upper = completed[above];
+  if (above != above_) {
+    below_ = polygon_of(below);
+    upper_ = polygon_of(upper);
+    const int count = std::max(below_.count, upper_.count);
+    elevate_to(below_, count);
+    elevate_to(upper_, count);
+    above_ = above;
+  }
+  const float t = (rp - below.position) / (upper.position - below.position);
+  KeyBarbBlend blend;
+  blend.polygon = below_;
+  for (int i = 0; i < blend.polygon.count; ++i)
+    blend.polygon.points[size_t(i)] += t * (upper_.points[size_t(i)] - blend.polygon.points[size_t(i)]);
+  blend.plumulaceous = below.plumulaceous + t * (upper.plumulaceous - below.plumulaceous);
+  blend.open = below.open + t * (upper.open - below.open);
+  return blend;
+}
+
+Barb VaneBarbs::operator()(float rp, int index, const BarbAttachment &attachment) {
+  const FeatherTemplate &f = feather_;
+  const Vane vane = vane_;
+  const uint64_t seed = seed_;
   Barb barb;
   const VaneDesc &desc = vane == Vane::left ? f.left : f.right;
-  const KeyBarbBlend blend = interpolate_key_barbs(keys, rp);
+  const KeyBarbBlend blend = this->blend(rp);
   ControlPolygon polygon = blend.polygon;
-  if (blend.plumulaceous > 0.0f) polygon = lerp_polygons(polygon, mean_plumulaceous_polygon(), blend.plumulaceous);
+  if (blend.plumulaceous > 0.0f) {
+    // lerp_polygons(polygon, mean_plumulaceous_polygon(), plumulaceous), the mean's elevation kept.
+    const int count = std::max(polygon.count, mean_plumulaceous_polygon().count);
+    if (mean_.count != count) {
+      mean_ = mean_plumulaceous_polygon();
+      elevate_to(mean_, count);
+    }
+    elevate_to(polygon, count);
+    for (int i = 0; i < count; ++i)
+      polygon.points[size_t(i)] += blend.plumulaceous * (mean_.points[size_t(i)] - polygon.points[size_t(i)]);
+  }
   // The first vertex at the origin; the end-to-end distance clamped to [0, 1]; then the barb's length.
   const Eigen::Vector3f first = polygon.points[0];
   for (int i = 0; i < polygon.count; ++i) polygon.points[size_t(i)] -= first;
@@ -330,8 +384,8 @@ Barb build_barb(const FeatherTemplate &f, std::span<const KeyBarb> keys, Vane va
     m.col(2) = sin_a * vane_frame.col(2) - sigma * cos_a * vane_frame.col(0);
     return m;
   };
-  barb.attach = rachis_point(f, rp);
-  barb.frame = barb_frame(rachis_frame(f, rp));
+  barb.attach = attachment.point;
+  barb.frame = barb_frame(attachment.frame);
   barb.attach_flat = Eigen::Vector3f(0.0f, 0.0f, f.calamus_length + f.rachis_length * rp);
   barb.frame_flat = barb_frame(Eigen::Matrix3f::Identity());
   return barb;

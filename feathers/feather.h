@@ -131,4 +131,38 @@ FeatherShape make_shape(const FeatherTemplate &adult, uint64_t seed, float stage
 Barb build_barb(const FeatherTemplate &feather, std::span<const KeyBarb> keys, Vane vane, float rp, int index,
                 uint64_t seed);
 
+/// What the two barbs at rachis position rp share: the rachis point they leave from
+/// (rachis_point(feather, rp)) and the vane's frame there (rachis_frame(feather, rp)).
+struct BarbAttachment {
+  Eigen::Vector3f point = Eigen::Vector3f::Zero();
+  Eigen::Matrix3f frame = Eigen::Matrix3f::Identity();
+};
+BarbAttachment barb_attachment(const FeatherTemplate &feather, float rp);
+
+/// The barbs of one vane built in turn, as build_barb builds them (the same barbs, to the bit), with
+/// the work they share done once: the attachment at rp is passed in (both vanes' barbs there share
+/// it), and the two key barbs' polygons around the last rp, elevated to one degree, are kept for the
+/// next barb, which mostly lies between the same two (and the mean plumulaceous polygon too).
+class VaneBarbs {
+ public:
+  /// `feather` and `keys` (the vane's completed key barbs) must outlive this.
+  VaneBarbs(const FeatherTemplate &feather, std::span<const KeyBarb> keys, Vane vane, uint64_t seed)
+      : feather_(feather), keys_(keys), vane_(vane), seed_(seed) {}
+  /// build_barb(feather, keys, vane, rp, index, seed), `attachment` = barb_attachment(feather, rp).
+  Barb operator()(float rp, int index, const BarbAttachment &attachment);
+
+ private:
+  /// interpolate_key_barbs(keys, rp).
+  KeyBarbBlend blend(float rp);
+
+  const FeatherTemplate &feather_;
+  std::span<const KeyBarb> keys_;
+  Vane vane_;
+  uint64_t seed_;
+  size_t above_ = 0;  // the key barb above the kept pair (0: none kept)
+  ControlPolygon below_, upper_;
+  ControlPolygon mean_;  // the mean plumulaceous polygon, elevated as the last barb needed it
+
+};
+
 }  // namespace plume::feathers

@@ -6,11 +6,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <mutex>
 #include <set>
 #include <thread>
 
 #include "feathers/coat.h"
+#include "groom/segment_distance.h"
 
 namespace plume::feathers {
 
@@ -23,7 +26,7 @@ using Triangle = std::array<Vec, 3>;
 /// each with a bounding sphere: the first level of the test.
 constexpr int kGroup = 8;
 
-// Closest distances (Ericson, "Real-Time Collision Detection", 5.1.5 and 5.1.9), squared.
+// Closest distances (Ericson, "Real-Time Collision Detection", 5.1.5; segments: groom/segment_distance.h), squared.
 double point_triangle_squared(const Vec &p, const Triangle &t) {
   const Vec &a = t[0], &b = t[1], &c = t[2];
   const Vec ab = b - a, ac = c - a, ap = p - a;
@@ -48,33 +51,6 @@ double point_triangle_squared(const Vec &p, const Triangle &t) {
   return (p - (a + ab * v + ac * w)).squaredNorm();
 }
 
-double segment_segment_squared(const Vec &p1, const Vec &q1, const Vec &p2, const Vec &q2) {
-  const Vec d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
-  if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return ((p1 + d1 * s) - (p2 + d2 * t)).squaredNorm();
-}
-
 /// Whether segment pq crosses triangle t (its plane between p and q, the crossing inside t; signed
 /// volumes, so a segment in the triangle's plane never crosses: the distances catch it).
 bool segment_crosses(const Vec &p, const Vec &q, const Triangle &t) {
@@ -87,8 +63,6 @@ bool segment_crosses(const Vec &p, const Vec &q, const Triangle &t) {
   return (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) || (s0 <= 0.0 && s1 <= 0.0 && s2 <= 0.0);
 }
 
-/// Whether two triangles intersect or come within sqrt(gap2) of each other. Two triangles that do
-/// not intersect are nearest at a vertex of one against the other or at two edges.
 /// Whether every vertex of `a` lies farther than sqrt(gap2) from b's plane, on one side: then all of
 /// `a` does (a convex combination), and so it is that far from `b`. A slack of 1e-9 of the
 /// triangles' size keeps rounding on the side of testing further.
@@ -103,6 +77,8 @@ bool beyond_plane(const Triangle &a, const Triangle &b, double gap2) {
   return (d0 > reach && d1 > reach && d2 > reach) || (d0 < -reach && d1 < -reach && d2 < -reach);
 }
 
+/// Whether two triangles intersect or come within sqrt(gap2) of each other. Two triangles that do
+/// not intersect are nearest at a vertex of one against the other or at two edges.
 bool too_close(const Triangle &a, const Triangle &b, double gap2) {
   if (beyond_plane(a, b, gap2) || beyond_plane(b, a, gap2)) return false;
   for (int k = 0; k < 3; ++k) {
@@ -113,7 +89,7 @@ bool too_close(const Triangle &a, const Triangle &b, double gap2) {
     if (point_triangle_squared(a[size_t(k)], b) < gap2) return true;
     if (point_triangle_squared(b[size_t(k)], a) < gap2) return true;
     for (int m = 0; m < 3; ++m)
-      if (segment_segment_squared(a[size_t(k)], a[size_t((k + 1) % 3)], b[size_t(m)], b[size_t((m + 1) % 3)]) < gap2)
+      if (segment_distance_squared(a[size_t(k)], a[size_t((k + 1) % 3)], b[size_t(m)], b[size_t((m + 1) % 3)]) < gap2)
         return true;
   }
   return false;
@@ -197,6 +173,21 @@ bool segment_meets_box(const Vec &p, const Vec &q, const Eigen::AlignedBox3d &bo
     if (t0 > t1) return false;
   }
   return true;
+}
+
+/// How far along the unit `direction` from `origin` the ray crosses triangle t, or -1 (Moller and
+/// Trumbore, in double; a ray in the triangle's plane does not cross it).
+double ray_crossing(const Vec &origin, const Vec &direction, const Triangle &t) {
+  const Vec e1 = t[1] - t[0], e2 = t[2] - t[0], h = direction.cross(e2);
+  const double det = e1.dot(h);
+  if (!(std::abs(det) > 1e-300)) return -1.0;
+  const Vec s = origin - t[0];
+  const double u = s.dot(h) / det;
+  if (u < 0.0 || u > 1.0) return -1.0;
+  const Vec q = s.cross(e1);
+  const double v = direction.dot(q) / det;
+  if (v < 0.0 || u + v > 1.0) return -1.0;
+  return e2.dot(q) / det;
 }
 
 /// Pairs of feathers whose spheres (root, extent) meet, found by a sweep along x: per feather, the
@@ -324,8 +315,12 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       extent = std::max(extent, (r_frame.vanes.positions[size_t(x)].cast<double>() - roots[i]).norm());
     extents[i] = extent;
   }
-  // Lifting turns a feather about its root, so its sphere holds it at any lift.
-  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, extents);
+  // Lifting turns a feather about its root, so its sphere holds it at any lift. A lower feather
+  // counts as over a vertex of it when the way out from the vertex meets the lower vanes within the
+  // lower feather's extent: both then lie within twice their extents of each other's roots.
+  std::vector<double> reaches(n);
+  for (size_t i = 0; i < n; ++i) reaches[i] = 2.0 * extents[i];
+  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, reaches);
   std::vector<int32_t> level(n, 0);
   int levels = 0;
   for (const int32_t i : order.bottom_up) {
@@ -355,9 +350,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   size_t done = 0;
   // Each feather's vanes once it is placed: what the feathers above it keep clear of.
   std::vector<FeatherVanes> placed(n);
-  int64_t lifted = 0, unresolved = 0;
+  int64_t lifted = 0, unresolved = 0, left_under = 0;
+  std::vector<char> unordered(n, 0);
   float largest = 0.0f;
-#pragma omp parallel reduction(+ : lifted, unresolved) reduction(max : largest)
+#pragma omp parallel reduction(+ : lifted, unresolved, left_under) reduction(max : largest)
   while (true) {
     int32_t next = -1;
     {
@@ -425,14 +421,51 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         }
         return any;
       };
-      if (!gather(true)) continue;
+      // The lower feathers that may be over a vertex of mine, and the vertices (outside the root
+      // disc) the way out is followed from.
+      std::vector<const FeatherVanes *> lower;
+      std::vector<Vec> lower_centers;  // of the lower vanes' boxes, with their half diagonals
+      std::vector<double> lower_radii;
+      for (const int32_t j : near[i])
+        if (order.rank[size_t(j)] < order.rank[i] && !placed[size_t(j)].triangles.empty()) {
+          const FeatherVanes &f = placed[size_t(j)];
+          lower.push_back(&f);
+          lower_centers.push_back(f.box.center());
+          lower_radii.push_back(0.5 * (f.box.max() - f.box.min()).norm() * (1.0 + 1e-9));
+        }
+      std::vector<int64_t> outward;
+      {
+        double from_base = 0.0;
+        for (int64_t x = ranges.first_vertex[i]; x < ranges.first_vertex[i + 1]; ++x)
+          from_base = std::max(from_base, (r_frame.vanes.positions[size_t(x)].cast<double>() - base).norm());
+        for (int64_t x = ranges.first_vertex[i]; x < ranges.first_vertex[i + 1]; ++x)
+          if ((r_frame.vanes.positions[size_t(x)].cast<double>() - base).norm() > double(options.root_disc) * from_base)
+            outward.push_back(x);
+      }
+      // Per such vertex, the lower feathers it may lie under at some turn: the turn keeps the vertex
+      // on a circle about the axis, and a lower feather over it is met within its extent, inside its
+      // bounding sphere, so the circle passes within the two of the sphere's center (with a slack
+      // for rounding). `outward_lower` lists them (places in `lower`) from `outward_first[k]`.
+      std::vector<int32_t> outward_lower;
+      std::vector<size_t> outward_first(outward.size() + 1, 0);
+      for (size_t k = 0; k < outward.size(); ++k) {
+        const Eigen::Vector2d at = ring(r_frame.vanes.positions[size_t(outward[k])].cast<double>());
+        for (size_t l = 0; l < lower.size(); ++l) {
+          const double reach = lower[l]->extent + lower_radii[l] + slack;
+          if ((ring(lower_centers[l]) - at).squaredNorm() <= reach * reach) outward_lower.push_back(int32_t(l));
+        }
+        outward_first[k + 1] = outward_lower.size();
+      }
+      if (!gather(true) && outward_lower.empty()) continue;
       std::vector<Triangle> moved(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> moved_boxes(mine.triangles.size());
       // The last conflict found (a pair of triangle groups, or a vertex below the skin) is tried
       // first: the search's next angle is near, so it usually conflicts again and the answer comes at
       // once. The answer is the full test's either way (every test skipped is conservative).
       struct Witness {
-        int kind = 0;  // 0 none, 1 a group of mine against a candidate, 2 a vertex below the skin
+        // 0 none, 1 a group of mine against a candidate, 2 a vertex below the skin, 3 a vertex (its
+        // place in `outward`) under a lower feather
+        int kind = 0;
         size_t group = 0, candidate = 0;
         int64_t vertex = 0;
       } witness;
@@ -495,12 +528,61 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         const Vec q = mine.root + turn * (p - mine.root);
         return skin->signed_distance(q.cast<float>()) < 0.0f;
       };
+      // Under a lower feather: the way out from a vertex of mine along the skin's normal (at the skin
+      // point closest to it, as the checker takes it) meets a lower feather's vanes within that
+      // feather's extent. The skin is not asked where the way out enters it again: a lower feather
+      // beyond a fold of skin counts too (more turning asked than needed, never less).
+      bool under_test = !outward_lower.empty();
+      std::vector<SurfacePoint> closest_hints(under_test && skin ? size_t(v1 - v0) : 0);
+      // With `r_over`, every lower feather over the vertex is marked there (by its place in `lower`).
+      auto under_lower = [&](const Eigen::Matrix3d &turn, size_t k, std::vector<char> *r_over = nullptr) {
+        const int64_t x = outward[k];
+        const Vec q = mine.root + turn * (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root);
+        Vec out = normal;
+        bool out_known = !skin;
+        bool any = false;
+        for (size_t c = outward_first[k]; c < outward_first[k + 1]; ++c) {
+          const size_t l = size_t(outward_lower[c]);
+          if (r_over && (*r_over)[l]) continue;
+          const FeatherVanes &f = *lower[l];
+          const Vec to_center = lower_centers[l] - q;
+          const double reach = f.extent + lower_radii[l];
+          if (to_center.squaredNorm() > reach * reach) continue;
+          if (!out_known) {
+            // The closest skin point moves little from one turn to the next: searched from the last.
+            SurfacePoint &closest = closest_hints[size_t(x - v0)];
+            closest = closest.triangle < 0 ? skin->closest(Eigen::Vector3f(q.cast<float>())) : skin->closest(q, closest);
+            out = surface_normal(skin->mesh(), closest).cast<double>();
+            out_known = true;
+          }
+          // The segment's nearest point to the vanes' bounding sphere first, then the boxes.
+          const double t = std::clamp(to_center.dot(out), 0.0, f.extent);
+          if ((to_center - t * out).squaredNorm() > lower_radii[l] * lower_radii[l]) continue;
+          const Vec end = q + f.extent * out;
+          if (!segment_meets_box(q, end, f.box)) continue;
+          bool hit = false;
+          for (size_t g = 0; g < f.group_boxes.size() && !hit; ++g) {
+            if (!segment_meets_box(q, end, f.group_boxes[g])) continue;
+            const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
+            for (size_t u = g * kGroup; u < group_end && !hit; ++u) {
+              const double along = ray_crossing(q, out, f.triangles[u]);
+              hit = along >= 0.0 && along <= f.extent;
+            }
+          }
+          if (!hit) continue;
+          if (!r_over) return true;
+          (*r_over)[l] = 1;
+          any = true;
+        }
+        return any;
+      };
       auto conflict = [&](double angle, double scale = 1.0) {
         const Eigen::Matrix3d turn = scale * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
         ++call;
         const bool turned = angle > 0.0 || scale != 1.0;
         if (witness.kind == 1 && pair_conflict(turn, witness.group, witness.candidate)) return true;
         if (witness.kind == 2 && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return true;
+        if (witness.kind == 3 && under_test && under_lower(turn, size_t(witness.vertex))) return true;
         for (size_t g = 0; g < mine.centers.size(); ++g) {
           if (candidates[g].empty()) continue;
           const Vec c = mine.root + turn * (mine.centers[g] - mine.root);
@@ -522,18 +604,69 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
               witness = {2, 0, 0, x};
               return true;
             }
+        if (under_test)
+          for (size_t k = 0; k < outward.size(); ++k)
+            if (under_lower(turn, k)) {
+              witness = {3, 0, 0, int64_t(k)};
+              return true;
+            }
         return false;
       };
       if (!conflict(0.0)) continue;
       constexpr double kStep = 0.02;  // radians, about 1.1 degrees
       double below = 0.0, above = -1.0;
-      for (double a = kStep; a < max_angle + kStep; a += kStep) {
-        const double at = std::min(a, max_angle);
-        if (!conflict(at)) {
-          above = at;
-          break;
+      auto search = [&] {
+        below = 0.0;
+        above = -1.0;
+        for (double a = kStep; a < max_angle + kStep; a += kStep) {
+          const double at = std::min(a, max_angle);
+          if (!conflict(at)) {
+            above = at;
+            break;
+          }
+          below = at;
         }
-        below = at;
+      };
+      search();
+      if (above < 0.0 && under_test) {
+        // No turn up to the skin normal takes it out from under the lower feathers: it is left under
+        // some (named), rather than shrunk until none is over it. Of the turns that keep it clear of
+        // them (the steps up to the normal), the lowest under the fewest lower feathers is taken,
+        // then lowered (bisection) as far as it stays under no more.
+        under_test = false;
+        witness = {};
+        ++left_under;
+        unordered[i] = 1;
+        std::vector<char> over(lower.size());
+        auto under_count = [&](double angle) {
+          std::fill(over.begin(), over.end(), char(0));
+          const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+          for (size_t k = 0; k < outward.size(); ++k) under_lower(turn, k, &over);
+          return std::count(over.begin(), over.end(), char(1));
+        };
+        auto worse = [&](double angle, std::ptrdiff_t bound) { return conflict(angle) || under_count(angle) > bound; };
+        std::ptrdiff_t best = PTRDIFF_MAX;
+        double previous = 0.0, best_below = 0.0;
+        for (double a = 0.0; a < max_angle + kStep; a += kStep) {
+          const double at = std::min(a, max_angle);
+          if (!conflict(at)) {
+            const std::ptrdiff_t count = under_count(at);
+            if (count < best) {
+              best = count;
+              above = at;
+              best_below = previous;
+            }
+          }
+          previous = at;
+          if (at == max_angle) break;
+        }
+        if (above > 0.0) {
+          below = best_below;
+          while (above - below > 1e-4) {
+            const double mid = 0.5 * (below + above);
+            (worse(mid, best) ? below : above) = mid;
+          }
+        }
       }
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): unturned, it is shrunk toward its
@@ -558,8 +691,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         r_frame.scales[i] *= scale;
         mine = feather_vanes(r_frame, ranges, i, options.root_disc);
         ++unresolved;
+        unordered[i] = 1;
         continue;
       }
+      if (above == 0.0) continue;
       while (above - below > 1e-4) {
         const double mid = 0.5 * (below + above);
         (conflict(mid) ? below : above) = mid;
@@ -586,6 +721,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   }
   stats.lifted = lifted;
   stats.unresolved = unresolved;
+  stats.left_under = left_under;
+  for (size_t i = 0; i < n; ++i)
+    if (unordered[i]) stats.unordered.push_back(int32_t(i));
   stats.largest_lift = largest;
   return stats;
 }

@@ -56,6 +56,12 @@ struct LayeringOptions {
 struct LayeringStats {
   int64_t lifted = 0;      // feathers turned up
   int64_t unresolved = 0;  // feathers no turn up to the skin normal could clear: shrunk instead
+  /// Feathers no turn up to the skin normal takes out from under every lower feather they overlap:
+  /// kept clear of them only (the checker's layer-order violations come from these).
+  int64_t left_under = 0;
+  /// The feathers left under a lower one or shrunk (indices, ascending): a higher feather found
+  /// under a lower one anywhere on the frame is one of these.
+  std::vector<int32_t> unordered;
   int waves = 0;           // the longest chain of feathers each waiting for the one below it
   float largest_lift = 0.0f;  // radians
 };
@@ -63,10 +69,14 @@ struct LayeringStats {
 /// One frame: from the bottom of `order` up, each feather (curves and vanes) turned about the axis
 /// through its root across its shaft (shaft x skin normal) by the smallest angle, up to the skin
 /// normal, at which no vane triangle of it comes within its offset of a lower feather's (triangles
-/// of the root discs apart); that angle is added to r_frame.lifts. Feathers whose bounding spheres
-/// (root, extent) meet no lower one's are independent: a feather is lifted (in parallel with others)
-/// once every lower feather it may touch is placed, and the result does not depend on the thread
-/// count or the schedule.
+/// of the root discs apart) and no lower feather is over it (the way out from a vane vertex outside
+/// the root disc, along the skin normal at the skin point closest to it, meets no lower vane within
+/// that feather's extent: check/feather_layers.h's rule); that angle is added to r_frame.lifts. A
+/// feather no such turn exists for is turned clear of the lower feathers and under the fewest, and
+/// named in `unordered`. Feathers whose spheres (root, twice the extent) meet no lower one's are
+/// independent: a feather is lifted (in parallel with others) once every lower feather it may
+/// touch or lie under is placed, and the result does not depend on the thread count or the
+/// schedule.
 /// `skin` (may be null) is the posed skin: a turn that takes a vane vertex below it is refused too.
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
                           const MeshQuery *skin, CoatFrame &r_frame);

@@ -24,26 +24,9 @@ using detail::flush_block_if_full;
 
 /// The layer header: doc, default prim, units, up axis and the frame's time code.
 std::string layer_header(const FeatherWriteOptions &options) {
-  std::string out = "#usda 1.0\n(\n";
-  if (!options.comment.empty()) {
-    out += "    doc = ";
-    append_string_literal(out, options.comment);
-    out += '\n';
-  }
-  out += "    defaultPrim = \"Groom\"\n    metersPerUnit = ";
-  append_number(out, options.meters_per_unit);
-  out += "\n    upAxis = \"" + options.up_axis + "\"\n";
-  if (options.time_code) {
-    for (const char *key : {"startTimeCode", "endTimeCode"}) {
-      out += std::string("    ") + key + " = ";
-      append_number(out, *options.time_code);
-      out += '\n';
-    }
-    out += "    timeCodesPerSecond = ";
-    append_number(out, options.fps);
-    out += '\n';
-  }
-  out += ")\n\n";
+  std::string out;
+  detail::append_layer_header(out, options.comment, options.meters_per_unit, options.up_axis, options.time_code,
+                              options.fps);
   return out;
 }
 

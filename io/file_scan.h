@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -159,6 +160,35 @@ inline void append_string_literal(std::string &out, std::string_view text) {
     out += c;
   }
   out += '"';
+}
+
+/// A `.usda` layer's header up to its closing parenthesis: doc (when `comment` is not empty),
+/// defaultPrim "Groom", metersPerUnit, upAxis and, with a time code, the layer's time range (that one
+/// frame) and rate.
+inline void append_layer_header(std::string &out, std::string_view comment, double meters_per_unit,
+                                std::string_view up_axis, const std::optional<double> &time_code, double fps) {
+  out += "#usda 1.0\n(\n";
+  if (!comment.empty()) {
+    out += "    doc = ";
+    append_string_literal(out, comment);
+    out += '\n';
+  }
+  out += "    defaultPrim = \"Groom\"\n    metersPerUnit = ";
+  append_number(out, meters_per_unit);
+  out += "\n    upAxis = ";
+  append_string_literal(out, up_axis);
+  out += '\n';
+  if (time_code) {
+    for (const char *key : {"startTimeCode", "endTimeCode"}) {
+      out += std::string("    ") + key + " = ";
+      append_number(out, *time_code);
+      out += '\n';
+    }
+    out += "    timeCodesPerSecond = ";
+    append_number(out, fps);
+    out += '\n';
+  }
+  out += ")\n\n";
 }
 
 /// `n` floats as a USD tuple: "(x, y, z)".

@@ -507,28 +507,8 @@ namespace {
 /// The layer header: doc, defaultPrim, metersPerUnit, upAxis and, with a time code, the layer's
 /// time range and rate; then the Groom Xform opens.
 void append_layer_header(std::string &out, const StrandWriteOptions &options) {
-  out += "#usda 1.0\n(\n";
-  if (!options.comment.empty()) {
-    out += "    doc = ";
-    append_string_literal(out, options.comment);
-    out += '\n';
-  }
-  out += "    defaultPrim = \"Groom\"\n    metersPerUnit = ";
-  append_number(out, options.meters_per_unit);
-  out += "\n    upAxis = ";
-  append_string_literal(out, options.up_axis);
-  out += '\n';
-  if (options.time_code) {
-    for (const char *key : {"startTimeCode", "endTimeCode"}) {
-      out += std::string("    ") + key + " = ";
-      append_number(out, *options.time_code);
-      out += '\n';
-    }
-    out += "    timeCodesPerSecond = ";
-    append_number(out, options.fps);
-    out += '\n';
-  }
-  out += ")\n\n";
+  detail::append_layer_header(out, options.comment, options.meters_per_unit, options.up_axis, options.time_code,
+                              options.fps);
   out += "def Xform \"Groom\" (\n    kind = \"component\"\n    prepend apiSchemas = [\"GroomAPI\"]\n)\n{\n";
 }
 

@@ -6,8 +6,11 @@
 #include <catch2/catch.hpp>
 #include <omp.h>
 
+#include <algorithm>
 #include <memory>
+#include <unordered_map>
 
+#include "check/feather_layers.h"
 #include "check/vanes.h"
 #include "feathers/coat.h"
 #include "groom/guides.h"
@@ -101,6 +104,49 @@ TEST_CASE("the checker finds vanes through each other without layering and none 
     CHECK(b.feather_pairs == 0);
     CHECK(b.intersecting_triangle_pairs == 0);
     CHECK(below_skin(posed, after, 1e-5f * 40.0f) == 0);
+  }
+}
+
+TEST_CASE("a higher feather lies under a lower one only where the layering pass reports it could not lift it out",
+          "[feathers]") {
+  // The checker's rule (check/feather_layers.h: CGAL rays along the skin normal from every vane vertex,
+  // independent of the pass's own rays) against the frozen order. The pass lifts every feather out
+  // from under the lower ones it overlaps where a turn up to the skin normal does; where none does
+  // (a lower feather lifted steeply beside it, or one over it near its root), it takes the turn under
+  // the fewest and names the feather. Every violation must be one of those; and they are few: fewer
+  // than a third of the violations of the coat grown without the pass (measured on the 600-feather
+  // proxy: 158 of 525 at rest, 128 of 550 at frame 24, from 90 and 80 feathers named).
+  const LayeredBird without(600, kNoLayers), with(600, kAsShipped);
+  std::unordered_map<uint64_t, int64_t> rank;
+  std::unordered_map<uint64_t, int32_t> index;
+  for (size_t i = 0; i < with.coat->size(); ++i) {
+    rank.emplace(with.coat->ids()[i], with.coat->layer_order().rank[i]);
+    index.emplace(with.coat->ids()[i], int32_t(i));
+  }
+  for (const int frame_number : {0, 24}) {
+    const Mesh posed = frame_number == 0 ? with.rest : with.pose(frame_number);
+    const MeshQuery query(posed);
+    const CoatFrame before = without.grow(posed), after = with.grow(posed);
+    auto violations = [&](const CoatFrame &frame) {
+      return check::layer_order_violations(check::vane_overlaps(frame.vanes.positions, frame.vanes.triangles,
+                                                                frame.vanes.triangle_feathers, posed, query),
+                                           rank, SIZE_MAX);
+    };
+    const check::LayerOrderReport a = violations(before), b = violations(after);
+    const std::vector<int32_t> &named = after.layering.unordered;
+    INFO("frame " << frame_number << ": " << a.violations << " layer-order violations without the pass, "
+                  << b.violations << " with; " << named.size() << " feathers named (" << after.layering.left_under
+                  << " left under, " << after.layering.unresolved << " shrunk)");
+    CHECK(std::is_sorted(named.begin(), named.end()));
+    CHECK(int64_t(named.size()) <= after.layering.left_under + after.layering.unresolved);
+    CHECK(check_frame(after).feather_pairs == 0);
+    CHECK(a.violations > 300);
+    CHECK(3 * b.violations < a.violations);
+    CHECK(named.size() * 5 < with.coat->size());
+    for (const auto &[lower, higher] : b.examples) {
+      INFO("feather " << higher << " under the lower " << lower);
+      CHECK(std::binary_search(named.begin(), named.end(), index.at(higher)));
+    }
   }
 }
 

@@ -11,6 +11,7 @@
 #include "groom/mesh.h"
 #include "groom/mesh_query.h"
 #include "groom/roots.h"
+#include "groom/segment_distance.h"
 #include "groom/strand_set.h"
 #include "groom/test_fixtures.h"
 #include "interp/interpolate.h"
@@ -82,31 +83,7 @@ inline float max_point_distance(const StrandSet &a, size_t i, const StrandSet &b
 
 inline float segment_distance(const Eigen::Vector3f &p0, const Eigen::Vector3f &p1, const Eigen::Vector3f &q0,
                               const Eigen::Vector3f &q1) {
-  // Closest points of two segments (Ericson, Real-Time Collision Detection, 5.1.9), in double.
-  const Eigen::Vector3d d1 = (p1 - p0).cast<double>(), d2 = (q1 - q0).cast<double>(), r = (p0 - q0).cast<double>();
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 1e-30 && e <= 1e-30) return float(r.norm());
-  if (a <= 1e-30) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-30) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 1e-30 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return float((r + d1 * s - d2 * t).norm());
+  return float(std::sqrt(segment_distance_squared(p0, p1, q0, q1)));
 }
 
 /// Non-root points with a negative signed distance to the skin.

@@ -8,6 +8,8 @@ namespace {
 
 /// The most cells the search grid may have: a larger grid takes larger cells.
 constexpr size_t max_cells = size_t(1) << 21;
+/// The most shared cells (one pointer each until listed).
+constexpr size_t max_shared_cells = size_t(1) << 22;
 
 /// Distance from x to piece `p`. The parameter starts at the projection on the chord and takes three
 /// Newton steps on (c(t) - x) . c'(t) (a piece turns by a few degrees: the distance has one minimum
@@ -145,6 +147,53 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
           }
     }
   }
+
+  // The shared cells: half a search cell (larger when the box would need too many), over the
+  // pieces' box and two search cells round it, where strands run beside their guides.
+  shared_cell_ = 0.5f * cell_;
+  const Eigen::Vector3f shared_lo = lo - Eigen::Vector3f::Constant(2.0f * cell_);
+  const Eigen::Vector3f shared_extent = extent + Eigen::Vector3f::Constant(4.0f * cell_);
+  for (;;) {
+    for (int a = 0; a < 3; ++a) shared_dims_[a] = std::max(1, int(std::ceil(shared_extent[a] / shared_cell_)));
+    if (size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z()) <= max_shared_cells) break;
+    shared_cell_ *= 1.5f;
+  }
+  shared_origin_ = shared_lo;
+  const size_t shared_count = size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z());
+  shared_ = std::make_unique<std::atomic<Candidates *>[]>(shared_count);
+  for (size_t c = 0; c < shared_count; ++c) shared_[c].store(nullptr, std::memory_order_relaxed);
+}
+
+GuideField::~GuideField() {
+  if (!shared_) return;
+  const size_t shared_count = size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z());
+  for (size_t c = 0; c < shared_count; ++c) delete shared_[c].load(std::memory_order_relaxed);
+}
+
+const GuideField::Candidates *GuideField::shared_candidates(const Eigen::Vector3f &x, Cache &cache) const {
+  if (!shared_) return nullptr;
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) {
+    const float at = std::floor((x[a] - shared_origin_[a]) / shared_cell_);
+    if (!(at >= 0.0f && at < float(shared_dims_[a]))) return nullptr;  // outside (or NaN)
+    c[a] = int(at);
+  }
+  std::atomic<Candidates *> &slot =
+      shared_[(size_t(c.z()) * size_t(shared_dims_.y()) + size_t(c.y())) * size_t(shared_dims_.x()) + size_t(c.x())];
+  Candidates *list = slot.load(std::memory_order_acquire);
+  if (!list) {
+    // The list depends on the cell alone: whichever thread fills it first, it is the same.
+    auto made = std::make_unique<Candidates>();
+    const Eigen::Vector3f centre = shared_origin_ + shared_cell_ * (c.cast<float>() + Eigen::Vector3f::Constant(0.5f));
+    gather(centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), *made, cache.order, cache.effective);
+    Candidates *expected = nullptr;
+    if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
+      list = made.release();
+    else
+      list = expected;
+  }
+  // Rounding can put a point on a cell's border just outside its ball: it takes its own list.
+  return (x - list->centre).norm() <= list->valid ? list : nullptr;
 }
 
 Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
@@ -153,7 +202,8 @@ Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
   return c;
 }
 
-void GuideField::gather(const Eigen::Vector3f &x, Cache &cache) const {
+void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates &cache, std::vector<int32_t> &found,
+                        std::vector<float> &lowers) const {
   // An upper bound of the nearest guide's distance: the nearest piece's ball, found ring by ring of
   // cells round x (a piece not met within ring k lies in cells of ring k + 1 or more, at least
   // k cells away). Points outside the grid's box look at every piece.
@@ -181,9 +231,8 @@ void GuideField::gather(const Eigen::Vector3f &x, Cache &cache) const {
   // some piece of it lies within reach * (upper + valid) + valid of x; and a piece counts in its
   // guide's tangent only within coil_reach times the guide's distance, which is below the guide's
   // own bound plus valid. So the cache keeps, of the guides near enough, the pieces near enough.
-  const float valid = std::max(0.5f * upper, 0.5f * cell_);
+  const float valid = valid_asked >= 0.0f ? valid_asked : std::max(0.5f * upper, 0.5f * cell_);
   const float radius = shape_.reach * (upper + valid) + valid;
-  std::vector<int32_t> &found = cache.order;
   found.clear();
   const Eigen::Vector3i from = cell_of(x - Eigen::Vector3f::Constant(radius));
   const Eigen::Vector3i to = cell_of(x + Eigen::Vector3f::Constant(radius));
@@ -209,9 +258,8 @@ void GuideField::gather(const Eigen::Vector3f &x, Cache &cache) const {
   for (const int32_t g : found) cache.guides.push_back({g, 0, 0, 0.0f, 0.0f});
   cache.pieces.clear();
   cache.piece_lower.clear();
-  std::vector<Cache::Guide> kept;
-  std::vector<float> &lowers = cache.effective;  // scratch
-  for (const Cache::Guide &entry : cache.guides) {
+  std::vector<Candidates::Guide> kept;
+  for (const Candidates::Guide &entry : cache.guides) {
     const int32_t g = entry.guide;
     const int32_t begin_piece = guide_begin_[size_t(g)], end_piece = guide_end_[size_t(g)];
     float guide_upper = INFINITY, guide_lower = INFINITY;
@@ -241,7 +289,12 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
                                         const GuideAttenuation *attenuation) const {
   Sample sample;
   if (pieces_.empty()) return sample;
-  if (!((x - cache.centre).norm() <= cache.valid)) gather(x, cache);
+  const Candidates *listed = shared_candidates(x, cache);
+  if (!listed) {
+    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.effective);
+    listed = &cache.own;
+  }
+  const Candidates &candidates = *listed;
 
   // Guide bounds at x from the cache's (1-Lipschitz): the nearest guide is nearer than the smallest
   // upper bound, and a guide every point of which is farther than reach times that does not weigh.
@@ -249,19 +302,19 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // chord) are computed, and the exact distance only to the pieces that can be the nearest.
   std::vector<Cache::Near> &near = cache.near;
   near.clear();
-  const float moved = (x - cache.centre).norm();
+  const float moved = (x - candidates.centre).norm();
   float upper = INFINITY;
-  for (const Cache::Guide &g : cache.guides) upper = std::min(upper, g.upper + moved);
+  for (const Candidates::Guide &g : candidates.guides) upper = std::min(upper, g.upper + moved);
   // One guide's pieces into `near`; returns the guide's distance.
-  const auto measure = [&](const Cache::Guide &g) {
+  const auto measure = [&](const Candidates::Guide &g) {
     const size_t first = near.size();
     size_t best = first;
     // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
     // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
     const float skip = shape_.coil_reach * (g.upper + moved + max_sag_) + moved + 1e-6f * cell_;
     for (int32_t e = g.begin; e < g.end; ++e) {
-      if (cache.piece_lower[size_t(e)] > skip) continue;
-      const int32_t piece = cache.pieces[size_t(e)];
+      if (candidates.piece_lower[size_t(e)] > skip) continue;
+      const int32_t piece = candidates.pieces[size_t(e)];
       const GuidePiece &p = pieces_[size_t(piece)];
       const float lower = piece_lower(p, x);
       near.push_back({g.guide, piece, lower, INFINITY, lower + p.sag});
@@ -283,14 +336,14 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // the guide of least bound is measured first and its distance tightens the limit: the guides
   // skipped for it would have had no weight, and the answer is the same to the bit.
   if (!attenuation) {
-    const Cache::Guide *first = nullptr;
-    for (const Cache::Guide &g : cache.guides)
+    const Candidates::Guide *first = nullptr;
+    for (const Candidates::Guide &g : candidates.guides)
       if (g.begin != g.end && (!first || g.lower < first->lower)) first = &g;
     if (first) upper = std::min(upper, measure(*first));
     near.clear();
   }
   const float guide_limit = shape_.reach * upper;
-  for (const Cache::Guide &g : cache.guides) {
+  for (const Candidates::Guide &g : candidates.guides) {
     if (g.lower - moved >= guide_limit || g.begin == g.end) continue;
     measure(g);
   }

@@ -6,8 +6,10 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -61,21 +63,28 @@ class GuideField {
   /// (scene units, > 0; about a guide segment). The field keeps no reference to `guides`.
   GuideField(const StrandSet &guides, std::span<const int32_t> members, const FieldShape &shape, float cell);
 
-  /// The pieces near one point, kept by a strand from one evaluation to the next to spare searches.
-  /// It never changes an answer: it holds every piece that can matter within `valid` of `centre`.
-  struct Cache {
+  /// The pieces that can matter anywhere within `valid` of `centre`: of the guides that can weigh
+  /// there, the pieces that can be their nearest or take a share of their tangent. Evaluating with
+  /// them gives the same answer as with every piece (see evaluate()).
+  struct Candidates {
     Eigen::Vector3f centre = Eigen::Vector3f::Zero();
-    float valid = -1.0f;          // nothing cached yet
+    float valid = -1.0f;          // nothing listed yet
     std::vector<int32_t> pieces;  // ascending
-    std::vector<float> piece_lower;  // per cached piece, a lower bound of its distance at `centre`
-    /// The cached guides, ascending, each with its pieces' range in `pieces` and, at `centre`, lower
+    std::vector<float> piece_lower;  // per listed piece, a lower bound of its distance at `centre`
+    /// The listed guides, ascending, each with its pieces' range in `pieces` and, at `centre`, lower
     /// and upper bounds of its distance.
     struct Guide {
       int32_t guide, begin, end;
       float lower, upper;
     };
     std::vector<Guide> guides;
-    /// Scratch of evaluate(): the listed pieces' distance bounds, and the closest points computed.
+  };
+
+  /// One thread's scratch for evaluate(), and the candidates of the last point evaluated outside the
+  /// field's shared cells (kept from one evaluation to the next). It never changes an answer.
+  struct Cache {
+    Candidates own;
+    /// The listed pieces' distance bounds, and the closest points computed.
     struct Near {
       int32_t guide;
       int32_t piece;
@@ -85,7 +94,7 @@ class GuideField {
     };
     std::vector<Near> near;
     std::vector<int32_t> order;
-    std::vector<float> effective;  // scratch of evaluate(): per piece, its guide's effective distance
+    std::vector<float> effective;  // per piece, its guide's effective distance
   };
 
   struct Sample {
@@ -98,16 +107,26 @@ class GuideField {
   /// The field at x: w_g = fade(d_g / d_min - (reach - 1)) / d_g, with d_g the distance from x to
   /// guide g's curve and d_min the nearest guide's; T_g the tangent of guide g at its nearest pieces
   /// (see FieldShape::coil_reach); on a guide (d_g within a millionth of a cell), that guide's tangent.
-  /// Thread-safe (the cache is the caller's).
+  /// Thread-safe (the cache is the caller's; the shared cells are filled once each, whichever thread
+  /// comes first, with lists that depend on the cell alone).
   /// `attenuation` (may be null): factors for the guides at x; a guide at distance d then counts
   /// at d / factor (a factor of 0 removes it, except on the guide itself).
   Sample evaluate(const Eigen::Vector3f &x, Cache &cache, const GuideAttenuation *attenuation = nullptr) const;
 
   bool empty() const { return pieces_.empty(); }
 
+  GuideField(const GuideField &) = delete;
+  GuideField &operator=(const GuideField &) = delete;
+  ~GuideField();
+
  private:
-  /// Fills the cache for point x (see Cache).
-  void gather(const Eigen::Vector3f &x, Cache &cache) const;
+  /// Lists the candidates within `valid` of x (valid < 0: max(U / 2, half a cell), U an upper bound
+  /// of the nearest guide's distance at x). `found` and `lowers` are scratch.
+  void gather(const Eigen::Vector3f &x, float valid, Candidates &r_candidates, std::vector<int32_t> &found,
+              std::vector<float> &lowers) const;
+  /// The shared candidates of the cell holding x, listed on first use; null when x lies outside
+  /// the shared cells.
+  const Candidates *shared_candidates(const Eigen::Vector3f &x, Cache &cache) const;
   Eigen::Vector3i cell_of(const Eigen::Vector3f &p) const;
   size_t cell_index(int x, int y, int z) const {
     return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
@@ -123,6 +142,13 @@ class GuideField {
   std::vector<int32_t> cell_pieces_;
   /// Per guide index (of the guides given): its pieces' range in pieces_ (empty for a non-member).
   std::vector<int32_t> guide_begin_, guide_end_;
+  /// The shared cells: a uniform grid of half the search cell over the guides' box and two search
+  /// cells round it, each cell's candidates (for its centre, valid over the whole cell) listed by
+  /// the first evaluation inside it and shared by every strand and thread from then on.
+  float shared_cell_ = 1.0f;
+  Eigen::Vector3f shared_origin_ = Eigen::Vector3f::Zero();
+  Eigen::Vector3i shared_dims_ = Eigen::Vector3i::Zero();
+  std::unique_ptr<std::atomic<Candidates *>[]> shared_;
 };
 
 /// Smooth step from 1 (u <= 0) to 0 (u >= 1): 1 - 3u^2 + 2u^3 in between (C1).

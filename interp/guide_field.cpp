@@ -10,6 +10,8 @@ namespace {
 constexpr size_t max_cells = size_t(1) << 21;
 /// The most shared cells (one pointer each until listed).
 constexpr size_t max_shared_cells = size_t(1) << 22;
+/// Pieces per span (see GuideField::PieceSpan).
+constexpr int32_t span_pieces = 8;
 
 /// Distance from x to piece `p`. The parameter starts at the projection on the chord and takes three
 /// Newton steps on (c(t) - x) . c'(t) (a piece turns by a few degrees: the distance has one minimum
@@ -110,9 +112,36 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
   }
   if (pieces_.empty()) return;
 
-  // The search grid: each piece listed in every cell its ball's box meets.
+  // Spans: runs of up to span_pieces consecutive pieces of one guide, each in a ball holding its
+  // pieces' balls; searches look at spans first and at the pieces of the spans near enough.
+  guide_span_begin_.assign(guides.strand_count(), 0);
+  guide_span_end_.assign(guides.strand_count(), 0);
+  for (const int32_t g : members) {
+    guide_span_begin_[size_t(g)] = int32_t(spans_.size());
+    for (int32_t begin = guide_begin_[size_t(g)]; begin < guide_end_[size_t(g)]; begin += span_pieces) {
+      const int32_t end = std::min(begin + span_pieces, guide_end_[size_t(g)]);
+      Eigen::Vector3f box_lo = Eigen::Vector3f::Constant(INFINITY), box_hi = -box_lo;
+      for (int32_t i = begin; i < end; ++i) {
+        const GuidePiece &p = pieces_[size_t(i)];
+        box_lo = box_lo.cwiseMin(p.centre - Eigen::Vector3f::Constant(p.radius));
+        box_hi = box_hi.cwiseMax(p.centre + Eigen::Vector3f::Constant(p.radius));
+      }
+      PieceSpan span;
+      span.centre = 0.5f * (box_lo + box_hi);
+      for (int32_t i = begin; i < end; ++i)
+        span.radius = std::max(span.radius, (pieces_[size_t(i)].centre - span.centre).norm() + pieces_[size_t(i)].radius);
+      span.radius *= 1.0f + 1e-5f;  // rounding
+      span.guide = g;
+      span.begin = begin;
+      span.end = end;
+      spans_.push_back(span);
+    }
+    guide_span_end_[size_t(g)] = int32_t(spans_.size());
+  }
+
+  // The search grid: each span listed in every cell its ball's box meets.
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
-  for (const GuidePiece &p : pieces_) {
+  for (const PieceSpan &p : spans_) {
     lo = lo.cwiseMin(p.centre - Eigen::Vector3f::Constant(p.radius));
     hi = hi.cwiseMax(p.centre + Eigen::Vector3f::Constant(p.radius));
   }
@@ -129,11 +158,11 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
     std::vector<int32_t> fill;
     if (pass == 1) {
       for (size_t c = 0; c < cell_count; ++c) cell_offsets_[c + 1] += cell_offsets_[c];
-      cell_pieces_.resize(size_t(cell_offsets_.back()));
+      cell_spans_.resize(size_t(cell_offsets_.back()));
       fill.assign(cell_offsets_.begin(), cell_offsets_.end() - 1);
     }
-    for (size_t i = 0; i < pieces_.size(); ++i) {
-      const GuidePiece &p = pieces_[i];
+    for (size_t i = 0; i < spans_.size(); ++i) {
+      const PieceSpan &p = spans_[i];
       const Eigen::Vector3i from = cell_of(p.centre - Eigen::Vector3f::Constant(p.radius));
       const Eigen::Vector3i to = cell_of(p.centre + Eigen::Vector3f::Constant(p.radius));
       for (int z = from.z(); z <= to.z(); ++z)
@@ -143,7 +172,7 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
             if (pass == 0)
               ++cell_offsets_[c + 1];
             else
-              cell_pieces_[size_t(fill[c]++)] = int32_t(i);
+              cell_spans_[size_t(fill[c]++)] = int32_t(i);
           }
     }
   }
@@ -202,11 +231,12 @@ Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
   return c;
 }
 
-void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates &cache, std::vector<int32_t> &found,
+void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates &r_list, std::vector<int32_t> &found,
                         std::vector<float> &lowers) const {
-  // An upper bound of the nearest guide's distance: the nearest piece's ball, found ring by ring of
-  // cells round x (a piece not met within ring k lies in cells of ring k + 1 or more, at least
-  // k cells away). Points outside the grid's box look at every piece.
+  // An upper bound of the nearest guide's distance: the nearest span's ball, found ring by ring of
+  // cells round x (a span not met within ring k lies in cells of ring k + 1 or more, at least k
+  // cells away), then the nearest piece's ball among the spans found below. Points outside the
+  // grid's box look at every span.
   float upper = INFINITY;
   const Eigen::Vector3f box_lo = origin_, box_hi = origin_ + cell_ * dims_.cast<float>();
   const bool inside = (x.array() >= box_lo.array()).all() && (x.array() <= box_hi.array()).all();
@@ -220,69 +250,108 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
             if (std::max({std::abs(z - c0.z()), std::abs(y - c0.y()), std::abs(xi - c0.x())}) != k) continue;
             const size_t c = cell_index(xi, y, z);
             for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) {
-              const GuidePiece &p = pieces_[size_t(cell_pieces_[size_t(e)])];
+              const PieceSpan &p = spans_[size_t(cell_spans_[size_t(e)])];
               upper = std::min(upper, (x - p.centre).norm() + p.radius);
             }
           }
   } else {
-    for (const GuidePiece &p : pieces_) upper = std::min(upper, (x - p.centre).norm() + p.radius);
+    for (const PieceSpan &p : spans_) upper = std::min(upper, (x - p.centre).norm() + p.radius);
   }
   // Within `valid` of x: the nearest guide is nearer than upper + valid, so a guide weighs only if
   // some piece of it lies within reach * (upper + valid) + valid of x; and a piece counts in its
   // guide's tangent only within coil_reach times the guide's distance, which is below the guide's
-  // own bound plus valid. So the cache keeps, of the guides near enough, the pieces near enough.
-  const float valid = valid_asked >= 0.0f ? valid_asked : std::max(0.5f * upper, 0.5f * cell_);
-  const float radius = shape_.reach * (upper + valid) + valid;
+  // own bound plus valid. So the list keeps, of the guides near enough, the pieces near enough.
+  const auto valid_for = [&](float bound) {
+    return valid_asked >= 0.0f ? valid_asked : std::max(0.5f * bound, 0.5f * cell_);
+  };
+  float valid = valid_for(upper);
+  float radius = shape_.reach * (upper + valid) + valid;
   found.clear();
   const Eigen::Vector3i from = cell_of(x - Eigen::Vector3f::Constant(radius));
   const Eigen::Vector3i to = cell_of(x + Eigen::Vector3f::Constant(radius));
   const size_t cells = size_t(to.x() - from.x() + 1) * size_t(to.y() - from.y() + 1) * size_t(to.z() - from.z() + 1);
   auto consider = [&](int32_t i) {
-    const GuidePiece &p = pieces_[size_t(i)];
-    if ((x - p.centre).norm() - p.radius <= radius && (found.empty() || found.back() != p.guide))
-      found.push_back(p.guide);
+    const PieceSpan &p = spans_[size_t(i)];
+    if ((x - p.centre).norm() - p.radius <= radius) found.push_back(i);
   };
-  if (!inside || cells > pieces_.size() / 4) {
-    for (size_t i = 0; i < pieces_.size(); ++i) consider(int32_t(i));
+  if (!inside || cells > spans_.size() / 4) {
+    for (size_t i = 0; i < spans_.size(); ++i) consider(int32_t(i));
   } else {
     for (int z = from.z(); z <= to.z(); ++z)
       for (int y = from.y(); y <= to.y(); ++y)
         for (int xi = from.x(); xi <= to.x(); ++xi) {
           const size_t c = cell_index(xi, y, z);
-          for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) consider(cell_pieces_[size_t(e)]);
+          for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) consider(cell_spans_[size_t(e)]);
         }
   }
   std::sort(found.begin(), found.end());
   found.erase(std::unique(found.begin(), found.end()), found.end());
-  cache.guides.clear();
-  for (const int32_t g : found) cache.guides.push_back({g, 0, 0, 0.0f, 0.0f});
-  cache.pieces.clear();
-  cache.piece_lower.clear();
-  std::vector<Candidates::Guide> kept;
-  for (const Candidates::Guide &entry : cache.guides) {
-    const int32_t g = entry.guide;
+  // The nearest piece's ball: it lies in a span whose ball is nearer than `upper`, found above.
+  for (const int32_t i : found) {
+    const PieceSpan &span = spans_[size_t(i)];
+    if (!((x - span.centre).norm() - span.radius < upper)) continue;
+    for (int32_t j = span.begin; j < span.end; ++j)
+      upper = std::min(upper, (x - pieces_[size_t(j)].centre).norm() + pieces_[size_t(j)].radius);
+  }
+  valid = valid_for(upper);
+  radius = shape_.reach * (upper + valid) + valid;
+
+  // Per guide with a span within the radius: its pieces' capsule bounds, span by span, the span of
+  // least ball bound first; a span whose ball lies beyond the pieces' radius holds no piece that
+  // can count (its pieces' chords are farther too: the ball holds them).
+  r_list.guides.clear();
+  r_list.pieces.clear();
+  r_list.piece_lower.clear();
+  const float hit = 1e-6f * cell_;
+  for (size_t f = 0; f < found.size();) {
+    const int32_t g = spans_[size_t(found[f])].guide;
+    bool near = false;
+    for (; f < found.size() && spans_[size_t(found[f])].guide == g; ++f)
+      near = near || (x - spans_[size_t(found[f])].centre).norm() - spans_[size_t(found[f])].radius <= radius;
+    if (!near) continue;
+    const int32_t span_begin = guide_span_begin_[size_t(g)], span_end = guide_span_end_[size_t(g)];
     const int32_t begin_piece = guide_begin_[size_t(g)], end_piece = guide_end_[size_t(g)];
+    lowers.assign(size_t(end_piece - begin_piece), INFINITY);
     float guide_upper = INFINITY, guide_lower = INFINITY;
-    lowers.resize(size_t(end_piece - begin_piece));
-    for (int32_t i = begin_piece; i < end_piece; ++i) {
-      const GuidePiece &p = pieces_[size_t(i)];
-      const float lower = piece_lower(p, x);
-      lowers[size_t(i - begin_piece)] = lower;
-      guide_lower = std::min(guide_lower, lower);
-      guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+    int32_t first = span_begin;
+    float first_bound = INFINITY;
+    for (int32_t i = span_begin; i < span_end; ++i) {
+      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      if (bound < first_bound) {
+        first_bound = bound;
+        first = i;
+      }
+    }
+    const auto measure_span = [&](int32_t i) {
+      for (int32_t j = spans_[size_t(i)].begin; j < spans_[size_t(i)].end; ++j) {
+        const GuidePiece &p = pieces_[size_t(j)];
+        const float lower = piece_lower(p, x);
+        lowers[size_t(j - begin_piece)] = lower;
+        guide_lower = std::min(guide_lower, lower);
+        guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+      }
+    };
+    measure_span(first);
+    for (int32_t i = span_begin; i < span_end; ++i) {
+      if (i == first) continue;
+      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid + hit;
+      if (bound <= piece_radius)
+        measure_span(i);
+      else
+        guide_lower = std::min(guide_lower, bound);
     }
     const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
-    const int32_t begin = int32_t(cache.pieces.size());
+    const int32_t begin = int32_t(r_list.pieces.size());
     for (int32_t i = begin_piece; i < end_piece; ++i)
       if (lowers[size_t(i - begin_piece)] <= piece_radius) {
-        cache.pieces.push_back(i);
-        cache.piece_lower.push_back(lowers[size_t(i - begin_piece)]);
+        r_list.pieces.push_back(i);
+        r_list.piece_lower.push_back(lowers[size_t(i - begin_piece)]);
       }
-    kept.push_back({g, begin, int32_t(cache.pieces.size()), guide_lower, guide_upper});
+    r_list.guides.push_back({g, begin, int32_t(r_list.pieces.size()), guide_lower, guide_upper});
   }
-  cache.guides = std::move(kept);
-  cache.centre = x;
-  cache.valid = valid;
+  r_list.centre = x;
+  r_list.valid = valid;
 }
 
 GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,

@@ -138,10 +138,19 @@ class GuideField {
   float max_sag_ = 0.0f;  // the largest piece's sag
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
-  std::vector<int32_t> cell_offsets_;  // CSR over cells: pieces whose ball's box meets the cell
-  std::vector<int32_t> cell_pieces_;
+  /// A run of consecutive pieces [begin, end) of one guide, in a ball holding the pieces' balls.
+  struct PieceSpan {
+    Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+    float radius = 0.0f;
+    int32_t guide = 0, begin = 0, end = 0;
+  };
+  std::vector<PieceSpan> spans_;  // grouped by guide, in guide order
+  std::vector<int32_t> cell_offsets_;  // CSR over cells: spans whose ball's box meets the cell
+  std::vector<int32_t> cell_spans_;
   /// Per guide index (of the guides given): its pieces' range in pieces_ (empty for a non-member).
   std::vector<int32_t> guide_begin_, guide_end_;
+  /// Per guide index: its spans' range in spans_.
+  std::vector<int32_t> guide_span_begin_, guide_span_end_;
   /// The shared cells: a uniform grid of half the search cell over the guides' box and two search
   /// cells round it, each cell's candidates (for its centre, valid over the whole cell) listed by
   /// the first evaluation inside it and shared by every strand and thread from then on.

@@ -404,17 +404,23 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // Without attenuation a guide weighs nothing beyond reach times the nearest guide's distance, so
   // the guide of least bound is measured first and its distance tightens the limit: the guides
   // skipped for it would have had no weight, and the answer is the same to the bit.
+  // Its pieces stay in `near` and are moved to their place in guide order after the others.
+  const Candidates::Guide *first = nullptr;
   if (!attenuation) {
-    const Candidates::Guide *first = nullptr;
     for (const Candidates::Guide &g : candidates.guides)
       if (g.begin != g.end && (!first || g.lower < first->lower)) first = &g;
     if (first) upper = std::min(upper, measure(*first));
-    near.clear();
   }
+  const size_t first_count = near.size();
   const float guide_limit = shape_.reach * upper;
   for (const Candidates::Guide &g : candidates.guides) {
-    if (g.lower - moved >= guide_limit || g.begin == g.end) continue;
+    if (&g == first || g.lower - moved >= guide_limit || g.begin == g.end) continue;
     measure(g);
+  }
+  if (first_count > 0) {
+    size_t place = first_count;
+    while (place < near.size() && near[place].guide < first->guide) ++place;
+    std::rotate(near.begin(), near.begin() + ptrdiff_t(first_count), near.begin() + ptrdiff_t(place));
   }
   // Per guide (pieces come grouped by guide, in order): its distance d_g, the smallest of its
   // pieces', and its effective distance, d_g / factor with an attenuation; the nearest of both.

@@ -191,12 +191,26 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
   const size_t shared_count = size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z());
   shared_ = std::make_unique<std::atomic<Candidates *>[]>(shared_count);
   for (size_t c = 0; c < shared_count; ++c) shared_[c].store(nullptr, std::memory_order_relaxed);
+  parent_dims_ = (shared_dims_ + Eigen::Vector3i::Ones()) / 2;
+  const size_t parent_count = size_t(parent_dims_.x()) * size_t(parent_dims_.y()) * size_t(parent_dims_.z());
+  parents_ = std::make_unique<std::atomic<Candidates *>[]>(parent_count);
+  for (size_t c = 0; c < parent_count; ++c) parents_[c].store(nullptr, std::memory_order_relaxed);
 }
 
 GuideField::~GuideField() {
   if (!shared_) return;
   const size_t shared_count = size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z());
   for (size_t c = 0; c < shared_count; ++c) delete shared_[c].load(std::memory_order_relaxed);
+  const size_t parent_count = size_t(parent_dims_.x()) * size_t(parent_dims_.y()) * size_t(parent_dims_.z());
+  for (size_t c = 0; c < parent_count; ++c) delete parents_[c].load(std::memory_order_relaxed);
+}
+
+/// Publishes a list into a shared slot unless another thread did first; returns the slot's list.
+const GuideField::Candidates *GuideField::publish(std::atomic<Candidates *> &slot, std::unique_ptr<Candidates> made) {
+  Candidates *expected = nullptr;
+  if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
+    return made.release();
+  return expected;
 }
 
 const GuideField::Candidates *GuideField::shared_candidates(const Eigen::Vector3f &x, Cache &cache) const {
@@ -209,20 +223,70 @@ const GuideField::Candidates *GuideField::shared_candidates(const Eigen::Vector3
   }
   std::atomic<Candidates *> &slot =
       shared_[(size_t(c.z()) * size_t(shared_dims_.y()) + size_t(c.y())) * size_t(shared_dims_.x()) + size_t(c.x())];
-  Candidates *list = slot.load(std::memory_order_acquire);
+  const Candidates *list = slot.load(std::memory_order_acquire);
   if (!list) {
-    // The list depends on the cell alone: whichever thread fills it first, it is the same.
+    // The parent cell's list (twice the edge, the cell's ball inside its own, with room for
+    // rounding), gathered from the search grid; the cell's list narrowed from it. Each depends on
+    // its cell alone: whichever thread fills it first, it is the same.
+    const Eigen::Vector3i p = c / 2;
+    std::atomic<Candidates *> &parent_slot =
+        parents_[(size_t(p.z()) * size_t(parent_dims_.y()) + size_t(p.y())) * size_t(parent_dims_.x()) + size_t(p.x())];
+    const Candidates *parent = parent_slot.load(std::memory_order_acquire);
+    if (!parent) {
+      auto made = std::make_unique<Candidates>();
+      const Eigen::Vector3f centre =
+          shared_origin_ + 2.0f * shared_cell_ * (p.cast<float>() + Eigen::Vector3f::Constant(0.5f));
+      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, *made, cache.order, cache.effective);
+      parent = publish(parent_slot, std::move(made));
+    }
     auto made = std::make_unique<Candidates>();
     const Eigen::Vector3f centre = shared_origin_ + shared_cell_ * (c.cast<float>() + Eigen::Vector3f::Constant(0.5f));
-    gather(centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), *made, cache.order, cache.effective);
-    Candidates *expected = nullptr;
-    if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
-      list = made.release();
-    else
-      list = expected;
+    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), *made, cache.effective);
+    list = publish(slot, std::move(made));
   }
   // Rounding can put a point on a cell's border just outside its ball: it takes its own list.
   return (x - list->centre).norm() <= list->valid ? list : nullptr;
+}
+
+void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float valid, Candidates &r_list,
+                        std::vector<float> &lowers) const {
+  // As gather(), over the pieces of a list valid over a ball holding this one (a piece that
+  // matters here matters there, so it is listed there): the nearest listed piece's ball bounds the
+  // nearest guide's distance (the nearest guide's nearest piece is listed), and a guide's listed
+  // pieces hold its nearest ones.
+  float upper = INFINITY;
+  for (const int32_t i : from.pieces) upper = std::min(upper, (x - pieces_[size_t(i)].centre).norm() + pieces_[size_t(i)].radius);
+  const float radius = shape_.reach * (upper + valid) + valid;
+  r_list.guides.clear();
+  r_list.pieces.clear();
+  r_list.piece_lower.clear();
+  for (const Candidates::Guide &g : from.guides) {
+    bool near = false;
+    for (int32_t e = g.begin; e < g.end && !near; ++e) {
+      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      near = (x - p.centre).norm() - p.radius <= radius;
+    }
+    if (!near) continue;
+    float guide_upper = INFINITY, guide_lower = INFINITY;
+    lowers.resize(size_t(g.end - g.begin));
+    for (int32_t e = g.begin; e < g.end; ++e) {
+      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      const float lower = piece_lower(p, x);
+      lowers[size_t(e - g.begin)] = lower;
+      guide_lower = std::min(guide_lower, lower);
+      guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+    }
+    const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
+    const int32_t begin = int32_t(r_list.pieces.size());
+    for (int32_t e = g.begin; e < g.end; ++e)
+      if (lowers[size_t(e - g.begin)] <= piece_radius) {
+        r_list.pieces.push_back(from.pieces[size_t(e)]);
+        r_list.piece_lower.push_back(lowers[size_t(e - g.begin)]);
+      }
+    r_list.guides.push_back({g.guide, begin, int32_t(r_list.pieces.size()), guide_lower, guide_upper});
+  }
+  r_list.centre = x;
+  r_list.valid = valid;
 }
 
 Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {

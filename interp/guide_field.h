@@ -127,6 +127,11 @@ class GuideField {
   /// The shared candidates of the cell holding x, listed on first use; null when x lies outside
   /// the shared cells.
   const Candidates *shared_candidates(const Eigen::Vector3f &x, Cache &cache) const;
+  /// Lists the candidates within `valid` of x from `from`, a list valid over a ball that holds
+  /// that one. `lowers` is scratch.
+  void narrow(const Candidates &from, const Eigen::Vector3f &x, float valid, Candidates &r_list,
+              std::vector<float> &lowers) const;
+  static const Candidates *publish(std::atomic<Candidates *> &slot, std::unique_ptr<Candidates> made);
   Eigen::Vector3i cell_of(const Eigen::Vector3f &p) const;
   size_t cell_index(int x, int y, int z) const {
     return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
@@ -158,6 +163,10 @@ class GuideField {
   Eigen::Vector3f shared_origin_ = Eigen::Vector3f::Zero();
   Eigen::Vector3i shared_dims_ = Eigen::Vector3i::Zero();
   std::unique_ptr<std::atomic<Candidates *>[]> shared_;
+  /// Parent cells of twice the edge (2 x 2 x 2 shared cells each), whose lists, gathered from the
+  /// search grid, the shared cells' lists are narrowed from.
+  Eigen::Vector3i parent_dims_ = Eigen::Vector3i::Zero();
+  std::unique_ptr<std::atomic<Candidates *>[]> parents_;
 };
 
 /// Smooth step from 1 (u <= 0) to 0 (u >= 1): 1 - 3u^2 + 2u^3 in between (C1).

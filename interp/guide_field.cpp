@@ -254,13 +254,25 @@ void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float 
   // matters here matters there, so it is listed there): the nearest listed piece's ball bounds the
   // nearest guide's distance (the nearest guide's nearest piece is listed), and a guide's listed
   // pieces hold its nearest ones.
+  // The list's bounds hold within `offset` of x, less or more that: the nearest guide is nearer than
+  // the least upper bound, and only a guide whose lower bound is below that can hold the nearest
+  // piece.
+  const float offset = (x - from.centre).norm();
   float upper = INFINITY;
-  for (const int32_t i : from.pieces) upper = std::min(upper, (x - pieces_[size_t(i)].centre).norm() + pieces_[size_t(i)].radius);
+  for (const Candidates::Guide &g : from.guides) upper = std::min(upper, g.upper + offset);
+  for (const Candidates::Guide &g : from.guides) {
+    if (g.lower - offset > upper) continue;
+    for (int32_t e = g.begin; e < g.end; ++e) {
+      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      upper = std::min(upper, (x - p.centre).norm() + p.radius);
+    }
+  }
   const float radius = shape_.reach * (upper + valid) + valid;
   r_list.guides.clear();
   r_list.pieces.clear();
   r_list.piece_lower.clear();
   for (const Candidates::Guide &g : from.guides) {
+    if (g.lower - offset > radius) continue;  // farther than the radius everywhere
     bool near = false;
     for (int32_t e = g.begin; e < g.end && !near; ++e) {
       const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
@@ -307,17 +319,25 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
   if (inside) {
     const Eigen::Vector3i c0 = cell_of(x);
     const int rings = dims_.maxCoeff();
+    const auto scan = [&](int xi, int y, int z) {
+      const size_t c = cell_index(xi, y, z);
+      for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) {
+        const PieceSpan &p = spans_[size_t(cell_spans_[size_t(e)])];
+        upper = std::min(upper, (x - p.centre).norm() + p.radius);
+      }
+    };
+    // Ring k: the cells at chessboard distance k, whole rows where z or y is on the ring, else the
+    // row's two ends.
     for (int k = 0; k <= rings && !(float(k - 1) * cell_ >= upper); ++k)
       for (int z = std::max(c0.z() - k, 0); z <= std::min(c0.z() + k, dims_.z() - 1); ++z)
-        for (int y = std::max(c0.y() - k, 0); y <= std::min(c0.y() + k, dims_.y() - 1); ++y)
-          for (int xi = std::max(c0.x() - k, 0); xi <= std::min(c0.x() + k, dims_.x() - 1); ++xi) {
-            if (std::max({std::abs(z - c0.z()), std::abs(y - c0.y()), std::abs(xi - c0.x())}) != k) continue;
-            const size_t c = cell_index(xi, y, z);
-            for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) {
-              const PieceSpan &p = spans_[size_t(cell_spans_[size_t(e)])];
-              upper = std::min(upper, (x - p.centre).norm() + p.radius);
-            }
+        for (int y = std::max(c0.y() - k, 0); y <= std::min(c0.y() + k, dims_.y() - 1); ++y) {
+          if (std::abs(z - c0.z()) == k || std::abs(y - c0.y()) == k) {
+            for (int xi = std::max(c0.x() - k, 0); xi <= std::min(c0.x() + k, dims_.x() - 1); ++xi) scan(xi, y, z);
+          } else {
+            if (c0.x() - k >= 0) scan(c0.x() - k, y, z);
+            if (k > 0 && c0.x() + k < dims_.x()) scan(c0.x() + k, y, z);
           }
+        }
   } else {
     for (const PieceSpan &p : spans_) upper = std::min(upper, (x - p.centre).norm() + p.radius);
   }

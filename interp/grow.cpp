@@ -332,7 +332,7 @@ struct StrandScratch {
 /// the skin band, from `root` until the fine polyline is longer than `length`, then cut and resampled.
 /// The step adapts so that each step's error estimate (the distance between the third- and
 /// second-order ends) stays below `tolerance`, or less near a guide (tolerance_per_distance); it is at
-/// most `step`, and near the skin at most the signed distance (at least four margins).
+/// most `step`, and near the skin at most the room the distance bound leaves (at least four margins).
 void grow_streamline(const GuideField &field, PartingAttenuation *partings, const Eigen::Vector3f &root,
                      const Eigen::Vector3f &root_normal, float length, float step, float tolerance, float margin,
                      SkinBand &band, StrandScratch &scratch, GrowStats &stats, int n, Eigen::Vector3f *r_points,
@@ -374,11 +374,7 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     // guide's distance down to a hundredth of it, where the field turns fastest (its Lipschitz
     // constant grows as 1 / distance) and a strand near a guide must stay with it.
     const float allowed = std::clamp(nearest_at_x * tolerance_per_distance, 0.01f * tolerance, tolerance);
-    // Near the skin a step is at most max(4 m, the signed distance): the band is resolved. The
-    // distance is queried when the band's bound (which decays as the strand moves from its last
-    // query) leaves less than that, so that a strand above the band is not held to short steps.
-    float bound = band.lower_bound(x);
-    if (bound < 4.0f * margin) bound = band.exact(x);
+    const float bound = band.lower_bound(x);
     h = std::min({h, step, std::max(4.0f * margin, bound)});
     Eigen::Vector3f next, k4;
     float lower = 0.0f, error = 0.0f;

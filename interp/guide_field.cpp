@@ -207,6 +207,10 @@ GuideField::~GuideField() {
 
 /// Publishes a list into a shared slot unless another thread did first; returns the slot's list.
 const GuideField::Candidates *GuideField::publish(std::atomic<Candidates *> &slot, std::unique_ptr<Candidates> made) {
+  // Kept for the frame: no spare capacity.
+  made->pieces.shrink_to_fit();
+  made->piece_lower.shrink_to_fit();
+  made->guides.shrink_to_fit();
   Candidates *expected = nullptr;
   if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
     return made.release();

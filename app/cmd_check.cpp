@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <unordered_map>
 
 #include "app/commands.h"
 #include "app/feather_commands.h"
+#include "app/frame_range.h"
 #include "app/pipeline.h"
 #include "check/check.h"
 #include "groom/error.h"
@@ -37,6 +39,8 @@ struct CheckArgs {
   std::string guides_cache;
   std::string group;
   std::optional<int> frame;
+  /// A range of frames: `strands` is a pattern (####, %04d, $F4) naming each frame's file.
+  std::string frames;
   float tolerance = 0.0f;
   float transversal_degrees = check::kTransversalDegrees;
   float margin = 0.0f;
@@ -400,7 +404,69 @@ GroomView view_groom(const GroomDesc &groom, const StrandSet &strands, const Mes
 int check_strand_set(const CheckArgs &args, const std::optional<GroomDesc> &groom, const StrandSet &strands,
                      const std::string &group_name);
 
+int run_check(const CheckArgs &args);
+
+/// `plume check PATTERN --groom G --frames A-B`: every frame of the range in turn, feather vane
+/// meshes each against the frame before it in the range (order flips, popping). Returns the worst
+/// exit code; the text report ends with the frames that broke a promise (under --strict).
+int run_check_frames(const CheckArgs &args) {
+  if (args.groom.empty()) throw InputError("--frames: needs --groom, whose emitter it poses at each frame");
+  if (args.frame) throw InputError("--frames: give --frames or --frame, not both");
+  if (!args.previous.empty() || args.previous_frame)
+    throw InputError("--frames: each frame is compared with the one before it in the range; leave --previous out");
+  if (!args.guides.empty())
+    throw InputError("--frames: --guides names one frame's guides; leave it out (the groom's guides are posed at each "
+                     "frame)");
+  const FrameRange range = parse_frame_range(args.frames, "--frames");
+  check_frames_per_run(range, "--frames");
+  if (!has_frame_field(args.strands))
+    throw InputError("--frames: " + args.strands + " has no frame field (####, %04d or $F4) to name each frame's file");
+  check_frame_syntax(args.strands, "strands");
+  // Every frame's file first: a missing one stops the run before any check.
+  for (int64_t i = 0; i < range.count(); ++i) {
+    const std::string path = expand_frame_pattern(args.strands, range.at(i));
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+      throw InputError("--frames: frame " + std::to_string(range.at(i)) + ": " + path + " does not exist");
+  }
+  const std::string first = expand_frame_pattern(args.strands, range.first);
+  const bool vanes = is_feather_check(first, args.groom) &&
+                     (is_vane_mesh_file(first) || io::detail::extension_of(first) == ".obj");
+  int worst = 0;
+  std::vector<int> failed;
+  if (args.json) std::printf("{\"frames\": [\n");
+  for (int64_t i = 0; i < range.count(); ++i) {
+    CheckArgs one = args;
+    one.frames.clear();
+    one.frame = range.at(i);
+    one.strands = expand_frame_pattern(args.strands, range.at(i));
+    if (vanes && i > 0) {
+      one.previous = expand_frame_pattern(args.strands, range.at(i - 1));
+      one.previous_frame = range.at(i - 1);
+    } else {
+      one.max_pop.reset();
+    }
+    if (args.json && i > 0) std::printf(",\n");
+    const int code = run_check(one);
+    std::fflush(stdout);
+    if (code != 0) failed.push_back(range.at(i));
+    worst = std::max(worst, code);
+  }
+  std::string list;
+  for (const int f : failed) list += (list.empty() ? "" : ", ") + std::to_string(f);
+  if (args.json) {
+    std::printf("], \"frames_checked\": %lld, \"frames_failed\": [%s]}\n", (long long)range.count(), list.c_str());
+  } else {
+    std::printf("frames %s: %lld checked%s%s\n", args.frames.c_str(), (long long)range.count(),
+                failed.empty() ? (args.strict || args.strict_touching ? ", every one keeps its promises" : "")
+                               : ", broken promises at frames ",
+                list.c_str());
+  }
+  return worst;
+}
+
 int run_check(const CheckArgs &args) {
+  if (!args.frames.empty()) return run_check_frames(args);
   if (args.mesh.empty() && args.groom.empty())
     throw InputError("--mesh: expected the emitter mesh (.obj) at the strands' pose, or --groom to pose the groom's emitter");
   if (!args.mesh.empty() && !args.groom.empty())
@@ -563,6 +629,10 @@ void add_check_command(CLI::App &app, int &r_exit_code) {
   cmd->add_option("--frame", args->frame,
                   "With --groom: the strands' frame (default: the first of the groom's output.frames, else 1)")
       ->check(CLI::Range(-kMaxFrame, kMaxFrame));
+  cmd->add_option("--frames", args->frames,
+                  "With --groom: check every frame of a range (7, 1-48, 1-240:2), STRANDS a pattern (####, %04d, $F4) "
+                  "naming each frame's file; feather vane meshes are each compared with the frame before")
+      ->check(non_empty_frames());
   cmd->add_option("--guides", args->guides,
                   "Guide strands at the strands' pose to measure reproduction against (default: the groom's)");
   cmd->add_option("--guides-cache", args->guides_cache,

@@ -162,6 +162,7 @@ RunInputs::RunInputs(const GroomDesc &groom, const std::string &guides_cache)
   for (const std::string &path : groom.feathers.template_files) add(path, "a feather template file of the groom");
   add(groom.feathers.follicles.file, "the groom's feathers.follicles.file");
   add(groom.feathers.follicles.map_path, "the groom's feathers.follicles.map");
+  add(groom.feathers.layer_map_path, "the groom's feathers.layers.map");
   for (const ControlDesc &control : groom.controls.controls) add(control.vertex_map_path, "a control's vertex map");
 }
 

@@ -39,6 +39,13 @@ PreviewStyle feather_style(int size) {
   return style;
 }
 
+/// Feather id pairs as "a/b c/d".
+std::string text_pairs(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) {
+  std::string text;
+  for (const auto &[a, b] : pairs) text += (text.empty() ? "" : " ") + std::to_string(a) + "/" + std::to_string(b);
+  return text;
+}
+
 }  // namespace
 
 void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
@@ -92,6 +99,16 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
     write_options = pipeline->write_options();
     if (!previews.pattern().empty())
       camera = feather_camera(pipeline->base().rest_mesh(), pipeline->rest_frame().curves.curves);
+    const feathers::LayerOrder &order = pipeline->coat().layer_order();
+    if (!order.broken.empty()) {
+      const std::vector<uint64_t> &ids = pipeline->coat().ids();
+      std::vector<std::pair<uint64_t, uint64_t>> named;
+      for (size_t k = 0; k < std::min<size_t>(8, order.broken.size()); ++k)
+        named.emplace_back(ids[size_t(order.broken[k].first)], ids[size_t(order.broken[k].second)]);
+      std::fprintf(stderr, "plume: warning: the layer order at rest breaks %lld coverings in cycles (the feather "
+                   "covering the fewest goes lower; covering/covered feather ids: %s%s)\n",
+                   (long long)order.broken.size(), text_pairs(named).c_str(), order.broken.size() > 8 ? " ..." : "");
+    }
   }
   // What runs killed by SIGKILL left of these outputs goes, now that the run is known to start.
   remove_stale_temp_files(out, range);
@@ -241,12 +258,6 @@ std::string json_pairs(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) 
   return text + "]";
 }
 
-std::string text_pairs(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) {
-  std::string text;
-  for (const auto &[a, b] : pairs) text += (text.empty() ? "" : " ") + std::to_string(a) + "/" + std::to_string(b);
-  return text;
-}
-
 /// A vane mesh read back, with its feathers in file order: per feather its id and its vertices
 /// (consecutive: [first_vertex[f], first_vertex[f + 1]), as Plume writes them).
 struct VaneFile {
@@ -333,7 +344,7 @@ CoatView view_coat(const GroomDesc &groom, const std::string &groom_path, const 
   }
   const feathers::Coat &coat = view.pipeline->coat();
   view.rest = view.pipeline->rest_frame();
-  view.order = feathers::layer_order_from_coverage(view.rest, coat.ranges());
+  view.order = feathers::layer_order_from_coverage(view.rest, coat.ranges(), view.pipeline->layer_keys());
   for (size_t i = 0; i < coat.size(); ++i) view.rank.emplace(coat.ids()[i], view.order.rank[i]);
   // The file's vertices must be laid out as the coat's, feather by feather.
   const feathers::FeatherRanges ranges = coat.ranges();
@@ -426,11 +437,17 @@ int run_feather_check(const FeatherCheckArgs &args) {
   check::ShapeDrift drift;
   check::OrderFlips flips;
   check::Popping pop;
-  int64_t samples = 0, broken_at_rest = 0;
+  int64_t samples = 0, broken_at_rest = 0, overridden_at_rest = 0;
+  // Coverings at rest the order does not keep, by feather id (covering, covered): cycles broken.
+  std::vector<std::pair<uint64_t, uint64_t>> broken_examples;
   int previous_at = 0;
   if (layered) {
     const CoatView view = view_coat(*groom, args.groom, file, args.path);
     broken_at_rest = int64_t(view.order.broken.size());
+    overridden_at_rest = int64_t(view.order.overridden.size());
+    const std::vector<uint64_t> &ids = view.pipeline->coat().ids();
+    for (size_t k = 0; k < std::min<size_t>(8, view.order.broken.size()); ++k)
+      broken_examples.emplace_back(ids[size_t(view.order.broken[k].first)], ids[size_t(view.order.broken[k].second)]);
     const check::VaneOverlaps overlaps =
         check::vane_overlaps(file.mesh.positions, file.mesh.triangles, file.triangle_ids, skin, query);
     samples = overlaps.samples;
@@ -500,9 +517,11 @@ int run_feather_check(const FeatherCheckArgs &args) {
     }
     if (layered) {
       std::printf("\"layer_order\": {\"overlapping_pairs\": %lld, \"violations\": %lld, \"unranked_pairs\": %lld, "
-                  "\"samples\": %lld, \"broken_at_rest\": %lld, \"examples\": %s}, ",
+                  "\"samples\": %lld, \"broken_at_rest\": %lld, \"broken_examples\": %s, "
+                  "\"overridden_at_rest\": %lld, \"examples\": %s}, ",
                   (long long)order.overlapping_pairs, (long long)order.violations, (long long)order.unranked_pairs,
-                  (long long)samples, (long long)broken_at_rest, json_pairs(order.examples).c_str());
+                  (long long)samples, (long long)broken_at_rest, json_pairs(broken_examples).c_str(),
+                  (long long)overridden_at_rest, json_pairs(order.examples).c_str());
       std::printf("\"shape_drift\": {\"mean_percent\": %.9g, \"max_percent\": %.9g, \"worst_feather\": %llu}, ",
                   100.0 * drift.mean, 100.0 * drift.largest, (unsigned long long)drift.worst_feather);
     }
@@ -543,10 +562,13 @@ int run_feather_check(const FeatherCheckArgs &args) {
     std::printf("  feather against feather: judged on vane meshes\n");
   }
   if (layered) {
-    std::printf("  layer order (frozen at rest; %lld coverings broken there): %lld feather pairs overlap along the "
-                "skin normal, %lld with a lower feather outside a higher one%s%s\n",
-                (long long)broken_at_rest, (long long)order.overlapping_pairs, (long long)order.violations,
-                order.examples.empty() ? "" : "  lower/higher: ", text_pairs(order.examples).c_str());
+    std::printf("  layer order (frozen at rest; %lld coverings broken there in cycles%s%s; %lld reversed by the groom's "
+                "order): %lld feather pairs overlap along the skin normal, %lld with a lower feather outside a higher "
+                "one%s%s\n",
+                (long long)broken_at_rest, broken_examples.empty() ? "" : ", covering/covered: ",
+                text_pairs(broken_examples).c_str(), (long long)overridden_at_rest, (long long)order.overlapping_pairs,
+                (long long)order.violations, order.examples.empty() ? "" : "  lower/higher: ",
+                text_pairs(order.examples).c_str());
     std::printf("  shape drift from the rest shape: mean %.3g%%, largest %.3g%% of the feather's length (feather %llu)\n",
                 100.0 * drift.mean, 100.0 * drift.largest, (unsigned long long)drift.worst_feather);
   } else if (vanes) {

@@ -68,10 +68,17 @@ FeatherPipeline::FeatherPipeline(const GroomDesc &groom, const PipelineOptions &
   feathers::Follicles follicles = make_follicles(groom_, rest, options.strand_count);
   check_memory_for_feathers(groom_, follicles.size(),
                             options.strand_count >= 0 ? std::string("--strands") : std::string("feathers.follicles"));
-  coat_ = std::make_unique<feathers::Coat>(rest, base_->guides(), groom_.feathers, std::move(follicles));
+  if (!groom_.feathers.layer_map_path.empty())
+    layer_map_ = io::read_vertex_map(groom_.feathers.layer_map_path, rest.vertex_count(),
+                                     groom_.source + ": feathers.layers.map");
+  coat_ = std::make_unique<feathers::Coat>(rest, base_->guides(), groom_.feathers, std::move(follicles), layer_map_);
 }
 
 FeatherPipeline::~FeatherPipeline() = default;
+
+std::vector<feathers::LayerKey> FeatherPipeline::layer_keys() const {
+  return coat_->order_keys(base_->rest_mesh(), groom_.feathers, layer_map_);
+}
 
 FeatherPipeline::Frame FeatherPipeline::produce(int frame) {
   Frame result;

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/pipeline.h"
 #include "feathers/coat.h"
@@ -38,6 +39,9 @@ class FeatherPipeline {
   Frame produce(int frame);
   /// The coat grown on the rest emitter with the rest stems (the preview camera frames it).
   feathers::CoatFrame rest_frame() const;
+  /// Per feather, its key in the groom's own layer order (key feathers' `layer`, `layers.map`,
+  /// `front`, `rear`), whether or not the groom turns layering on: empty when the groom gives none.
+  std::vector<feathers::LayerKey> layer_keys() const;
   /// Options for writing this groom's feathers (template names, the OBJ texture coordinates).
   io::FeatherWriteOptions write_options() const;
 
@@ -45,6 +49,7 @@ class FeatherPipeline {
   GroomDesc groom_;
   std::unique_ptr<Pipeline> base_;
   std::unique_ptr<feathers::Coat> coat_;
+  std::vector<float> layer_map_;  // the groom's feathers.layers.map, or empty
 };
 
 }  // namespace plume

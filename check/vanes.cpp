@@ -91,6 +91,36 @@ VaneCheckReport check_vanes(std::span<const Eigen::Vector3f> positions, std::spa
     all_hi = all_hi.cwiseMax(hi[t]);
     size_sum += (hi[t] - lo[t]).maxCoeff();
   }
+  // Each triangle's plane (unit normal and offset; none for a triangle too flat to have one) and a
+  // bound of the rounding of a point's distance to it: a triangle whose three corners all lie farther
+  // than the thickness plus that bound on one side of the other's plane can neither meet nor touch
+  // it (it lies in the convex hull of its corners), so the exact tests are spared for it: the
+  // answers are the same.
+  std::vector<Eigen::Vector3d> plane_normals(n, Eigen::Vector3d::Zero());
+  std::vector<double> plane_offsets(n, 0.0);
+  for (size_t t = 0; t < n; ++t) {
+    const Eigen::Vector3d e1 = corners[t][1] - corners[t][0], e2 = corners[t][2] - corners[t][0];
+    const Eigen::Vector3d normal = e1.cross(e2);
+    const double length = normal.norm();
+    // A sliver's normal is ill-conditioned (its direction's rounding grows as 1 / sin of its angle):
+    // only triangles whose sides meet at more than a micro-radian get a plane.
+    if (!(length > 1e-6 * e1.norm() * e2.norm())) continue;
+    plane_normals[t] = normal / length;
+    plane_offsets[t] = -plane_normals[t].dot(corners[t][0]);
+  }
+  const double rounding = 1e-9 * std::max({all_lo.cwiseAbs().maxCoeff(), all_hi.cwiseAbs().maxCoeff(), eps});
+  const auto apart = [&](size_t from, size_t other) {
+    const Eigen::Vector3d &normal = plane_normals[from];
+    if (normal.isZero()) return false;
+    const double gap = eps + rounding;
+    int above = 0, below = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = normal.dot(corners[other][size_t(k)]) + plane_offsets[from];
+      above += d > gap ? 1 : 0;
+      below += d < -gap ? 1 : 0;
+    }
+    return above == 3 || below == 3;
+  };
   // Cells about twice the mean triangle's size: a triangle touches a few cells.
   double cell = std::max(2.0 * size_sum / double(n), 1e-300);
   cell = std::max(cell, (all_hi - all_lo).maxCoeff() / double((1 << 21) - 2));
@@ -131,6 +161,7 @@ VaneCheckReport check_vanes(std::span<const Eigen::Vector3f> positions, std::spa
         const Eigen::Array3d corner = ((box_lo - all_lo) / cell).array().floor();
         if (cell_key(int64_t(corner.x()), int64_t(corner.y()), int64_t(corner.z())) != key) continue;
         ++tested;
+        if (apart(size_t(ta), size_t(tb)) || apart(size_t(tb), size_t(ta))) continue;
         bool intersects = false, touches = false;
         const bool flat_a = degenerate(corners[size_t(ta)]), flat_b = degenerate(corners[size_t(tb)]);
         const Kernel::Triangle_3 a = to_cgal(corners[size_t(ta)]), b = to_cgal(corners[size_t(tb)]);

@@ -495,7 +495,8 @@ void KeyFeatherField::weights(const SurfacePoint &point, std::span<float> r_weig
   for (size_t k = 0; k < n; ++k) r_weights[k] = float(exponent[k] / sum);
 }
 
-Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, Follicles follicles)
+Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, Follicles follicles,
+           std::span<const float> layer_map)
     : detail_(desc.detail), lift_(desc.lift), clearance_(desc.clearance), falloff_(desc.falloff), layers_(desc.layers) {
   layering_.offset = desc.layer_offset;
   if (stems.size() == 0) throw InputError(desc.loc, "feathers: the guides hold no stems");
@@ -634,8 +635,38 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
     const MeshQuery rest_query(rest_mesh);
     CoatFrame rest;
     grow_feathers(rest_mesh, rest_query, stems.strands, rest, nullptr);
-    order_ = layer_order_from_coverage(rest, ranges());
+    order_ = layer_order_from_coverage(rest, ranges(), order_keys(rest_mesh, desc, layer_map));
   }
+}
+
+std::vector<LayerKey> Coat::order_keys(const Mesh &rest_mesh, const FeatherDesc &desc,
+                                       std::span<const float> layer_map) const {
+  const bool by_key = std::any_of(desc.key_feathers.begin(), desc.key_feathers.end(),
+                                  [](const KeyFeather &k) { return k.layer_given; });
+  if (!by_key && layer_map.empty() && desc.layer_front.empty() && desc.layer_rear.empty()) return {};
+  if (!layer_map.empty() && layer_map.size() != rest_mesh.vertex_count())
+    throw InternalError("Coat: " + std::to_string(layer_map.size()) + " layer map values for " +
+                        std::to_string(rest_mesh.vertex_count()) + " vertices");
+  const std::vector<bool> front = group_mask(rest_mesh, desc.layer_front, desc.layer_front_loc, "feathers.layers.front");
+  const std::vector<bool> rear = group_mask(rest_mesh, desc.layer_rear, desc.layer_rear_loc, "feathers.layers.rear");
+  const size_t n = points_.size();
+  std::vector<LayerKey> keys(n);
+  for (size_t i = 0; i < n; ++i) {
+    const SurfacePoint &p = points_[i];
+    const size_t face = size_t(p.triangle);
+    LayerKey &key = keys[i];
+    if (!front.empty() && front[face]) key.tier = 1;
+    if (!rear.empty() && rear[face]) key.tier = -1;
+    // The heaviest key feather's layer (the one whose template the feather takes; ties: the first).
+    const std::span<const float> w = key_weights(i);
+    key.layer = desc.key_feathers[size_t(std::max_element(w.begin(), w.end()) - w.begin())].layer;
+    if (!layer_map.empty()) {
+      const Eigen::Vector3i t = rest_mesh.triangles[face];
+      key.map = p.bary[0] * layer_map[size_t(t[0])] + p.bary[1] * layer_map[size_t(t[1])] +
+                p.bary[2] * layer_map[size_t(t[2])];
+    }
+  }
+  return keys;
 }
 
 void Coat::bind_stems(const Mesh &rest_mesh, const Guides &stems) {

@@ -93,7 +93,9 @@ class Coat {
   /// variation), its stems' weights and rest rotations, and its base frame in its skin frame.
   /// `rest_mesh` has normals; `stems` are the guide feathers bound to it (each at least 2 points).
   /// Throws InputError for an unknown face group, no stems, or a feather that cannot be built.
-  Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, Follicles follicles);
+  /// `layer_map` (empty, or one value per rest vertex): the groom's `layers.map`, read by the caller.
+  Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, Follicles follicles,
+       std::span<const float> layer_map = {});
 
   size_t size() const { return ids_.size(); }
   const std::vector<uint64_t> &ids() const { return ids_; }
@@ -116,6 +118,12 @@ class Coat {
   void grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
             const skin::SkinGrid *skin_grid = nullptr) const;
 
+  /// Per feather, its key in the groom's layer order (feathers/layering.h): empty when the groom gives
+  /// no order of its own (no key feather's `layer`, no `layers.map`, `front` or `rear`). `desc` is the
+  /// one the coat was bound with, `layer_map` its `layers.map` (empty, or one value per rest vertex).
+  /// Throws InputError naming `layers.front` or `layers.rear` for an unknown face group.
+  std::vector<LayerKey> order_keys(const Mesh &rest_mesh, const FeatherDesc &desc,
+                                   std::span<const float> layer_map) const;
   /// The layer order frozen at binding (empty when the coat has no layers).
   const LayerOrder &layer_order() const { return order_; }
   /// Where each feather's output lies in a frame.

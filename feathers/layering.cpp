@@ -6,14 +6,20 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
+#include <optional>
+#include <queue>
 #include <set>
-#include <thread>
+#include <string>
+#include <tuple>
 
 #include "feathers/coat.h"
+#include "groom/error.h"
 #include "groom/segment_distance.h"
+#include "skin/skin_grid.h"
 
 namespace plume::feathers {
 
@@ -216,10 +222,47 @@ std::vector<std::vector<int32_t>> sphere_neighbours(const std::vector<Vec> &root
   return out;
 }
 
+/// Per feather, the lower ones (by `rank`) it may touch or lie under at any lift: those whose roots
+/// lie within its extent plus twice theirs, or within the two extents plus its gap (`offset` times
+/// its extent), with a slack for rounding. Found by a sweep along x; each list sorted.
+std::vector<std::vector<int32_t>> lower_neighbours(const std::vector<Vec> &roots, const std::vector<double> &extents,
+                                                   const std::vector<int32_t> &rank, double offset) {
+  const size_t n = roots.size();
+  std::vector<int32_t> by_x(n);
+  for (size_t i = 0; i < n; ++i) by_x[i] = int32_t(i);
+  std::sort(by_x.begin(), by_x.end(), [&](int32_t a, int32_t b) {
+    return roots[size_t(a)].x() < roots[size_t(b)].x() || (roots[size_t(a)].x() == roots[size_t(b)].x() && a < b);
+  });
+  const double largest = n ? *std::max_element(extents.begin(), extents.end()) : 0.0;
+  const auto reach = [&](size_t high, size_t low) {
+    const double r = std::max(extents[high] + 2.0 * extents[low], (1.0 + offset) * extents[high] + extents[low]);
+    return r * (1.0 + 1e-9) + 1e-9 * (roots[high].cwiseAbs().maxCoeff() + roots[low].cwiseAbs().maxCoeff());
+  };
+  std::vector<std::vector<int32_t>> out(n);
+  for (size_t a = 0; a < n; ++a) {
+    const size_t i = size_t(by_x[a]);
+    const double window =
+        2.0 * (1.0 + offset) * (extents[i] + largest) * (1.0 + 1e-6) + 1e-6 * roots[i].cwiseAbs().maxCoeff();
+    for (size_t b = a + 1; b < n; ++b) {
+      const size_t j = size_t(by_x[b]);
+      if (roots[j].x() - roots[i].x() > window) break;
+      const bool i_high = rank[i] > rank[j];
+      const size_t high = i_high ? i : j, low = i_high ? j : i;
+      if ((roots[j] - roots[i]).norm() <= reach(high, low)) out[high].push_back(int32_t(low));
+    }
+  }
+  for (std::vector<int32_t> &list : out) std::sort(list.begin(), list.end());
+  return out;
+}
+
 }  // namespace
 
-LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges) {
+LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges,
+                                     std::span<const LayerKey> keys) {
   const size_t n = ranges.size();
+  if (!keys.empty() && keys.size() != n)
+    throw InternalError("layer_order_from_coverage: " + std::to_string(keys.size()) + " keys for " +
+                        std::to_string(n) + " feathers");
   std::vector<FeatherVanes> vanes(n);
   std::vector<Vec> roots(n);
   std::vector<double> extents(n);
@@ -271,20 +314,29 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
     }
   }
   LayerOrder order;
+  const LayerKey plain;
+  const auto key = [&](size_t i) -> const LayerKey & { return keys.empty() ? plain : keys[i]; };
   std::vector<std::vector<int32_t>> covered_by(n);
   std::vector<int32_t> remaining_covers(n);
   for (size_t i = 0; i < n; ++i) {
     std::sort(covers[i].begin(), covers[i].end());
     order.coverings += int64_t(covers[i].size());
+    // A covering the keys reverse does not count: the covering feather goes below.
+    std::erase_if(covers[i], [&](int32_t j) {
+      const bool reversed = key(i) < key(size_t(j));
+      if (reversed) order.overridden.emplace_back(int32_t(i), j);
+      return reversed;
+    });
     remaining_covers[i] = int32_t(covers[i].size());
     for (const int32_t j : covers[i]) covered_by[size_t(j)].push_back(int32_t(i));
   }
-  std::set<std::pair<int32_t, int32_t>> ready;
-  for (size_t i = 0; i < n; ++i) ready.emplace(remaining_covers[i], int32_t(i));
+  // Next: the smallest key, then the fewest coverings of feathers still to place, then the index.
+  std::set<std::tuple<LayerKey, int32_t, int32_t>> ready;
+  for (size_t i = 0; i < n; ++i) ready.emplace(key(i), remaining_covers[i], int32_t(i));
   std::vector<bool> placed(n, false);
   order.rank.assign(n, -1);
   while (!ready.empty()) {
-    const auto [count, i] = *ready.begin();
+    const auto [k, count, i] = *ready.begin();
     ready.erase(ready.begin());
     if (count > 0)
       for (const int32_t j : covers[size_t(i)])
@@ -292,10 +344,10 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
     placed[size_t(i)] = true;
     order.rank[size_t(i)] = int32_t(order.bottom_up.size());
     order.bottom_up.push_back(i);
-    for (const int32_t k : covered_by[size_t(i)]) {
-      if (placed[size_t(k)]) continue;
-      ready.erase({remaining_covers[size_t(k)], k});
-      ready.emplace(--remaining_covers[size_t(k)], k);
+    for (const int32_t c : covered_by[size_t(i)]) {
+      if (placed[size_t(c)]) continue;
+      ready.erase({key(size_t(c)), remaining_covers[size_t(c)], c});
+      ready.emplace(key(size_t(c)), --remaining_covers[size_t(c)], c);
     }
   }
   return order;
@@ -315,18 +367,16 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       extent = std::max(extent, (r_frame.vanes.positions[size_t(x)].cast<double>() - roots[i]).norm());
     extents[i] = extent;
   }
-  // Lifting turns a feather about its root, so its sphere holds it at any lift. A lower feather
-  // counts as over a vertex of it when the way out from the vertex meets the lower vanes within the
-  // lower feather's extent: both then lie within twice their extents of each other's roots.
-  std::vector<double> reaches(n);
-  for (size_t i = 0; i < n; ++i) reaches[i] = 2.0 * extents[i];
-  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, reaches);
+  // Lifting turns a feather about its root (or shrinks it toward it), so its sphere (root, extent)
+  // holds it at any lift. A lower feather can come within the gap of it only when their spheres are
+  // within that gap; it can be over a vertex of it (met on the way out within the lower feather's
+  // extent) only when the roots are within the higher extent plus twice the lower one.
+  const std::vector<std::vector<int32_t>> below = lower_neighbours(roots, extents, order.rank, double(options.offset));
   std::vector<int32_t> level(n, 0);
   int levels = 0;
   for (const int32_t i : order.bottom_up) {
     int l = 0;
-    for (const int32_t j : near[size_t(i)])
-      if (order.rank[size_t(j)] < order.rank[size_t(i)]) l = std::max(l, level[size_t(j)] + 1);
+    for (const int32_t j : below[size_t(i)]) l = std::max(l, level[size_t(j)] + 1);
     level[size_t(i)] = l;
     levels = std::max(levels, l + 1);
   }
@@ -334,22 +384,35 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
 
   // A feather is placed as soon as every lower feather it may touch is (not wave by wave: a wave's
   // end made every thread wait for the slowest feather of it, and the bird has hundreds of waves).
-  // It reads only those feathers' final vanes, so the result is the same for any schedule.
+  // It reads only those feathers' final vanes, so the result is the same for any schedule. Of the
+  // feathers ready, the one with the longest chain of feathers waiting above it goes first, so the
+  // threads are not left waiting at the end of a long chain.
   std::vector<std::vector<int32_t>> higher(n);
   std::vector<int32_t> waiting(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    waiting[i] = int32_t(below[i].size());
+    for (const int32_t j : below[i]) higher[size_t(j)].push_back(int32_t(i));
+  }
+  std::vector<int32_t> chain(n, 0);  // the longest chain of feathers waiting on each, itself included
+  for (auto it = order.bottom_up.rbegin(); it != order.bottom_up.rend(); ++it) {
+    int32_t c = 0;
+    for (const int32_t k : higher[size_t(*it)]) c = std::max(c, chain[size_t(k)]);
+    chain[size_t(*it)] = c + 1;
+  }
+  const auto later = [&](int32_t a, int32_t b) {
+    return chain[size_t(a)] < chain[size_t(b)] || (chain[size_t(a)] == chain[size_t(b)] && a > b);
+  };
+  std::priority_queue<int32_t, std::vector<int32_t>, decltype(later)> ready(later);
   for (size_t i = 0; i < n; ++i)
-    for (const int32_t j : near[i])
-      if (order.rank[size_t(j)] < order.rank[i]) {
-        ++waiting[i];
-        higher[size_t(j)].push_back(int32_t(i));
-      }
-  std::vector<int32_t> ready;
-  for (auto it = order.bottom_up.rbegin(); it != order.bottom_up.rend(); ++it)
-    if (waiting[size_t(*it)] == 0) ready.push_back(*it);
+    if (waiting[i] == 0) ready.push(int32_t(i));
   std::mutex mutex;  // guards ready, waiting and done
+  std::condition_variable woken;  // when a feather is ready or the last is done
   size_t done = 0;
   // Each feather's vanes once it is placed: what the feathers above it keep clear of.
   std::vector<FeatherVanes> placed(n);
+  // The skin's closest points, searched near the last one found for the same vertex.
+  std::optional<skin::SkinGrid> grid;
+  if (skin) grid.emplace(skin->mesh(), *skin);
   int64_t lifted = 0, unresolved = 0, left_under = 0;
   std::vector<char> unordered(n, 0);
   float largest = 0.0f;
@@ -357,16 +420,13 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   while (true) {
     int32_t next = -1;
     {
-      const std::lock_guard<std::mutex> lock(mutex);
+      // A thread with nothing ready sleeps (on a shared machine a spinning one took the time of the
+      // one on the longest chain).
+      std::unique_lock<std::mutex> lock(mutex);
+      woken.wait(lock, [&] { return done == n || !ready.empty(); });
       if (done == n) break;
-      if (!ready.empty()) {
-        next = ready.back();
-        ready.pop_back();
-      }
-    }
-    if (next < 0) {
-      std::this_thread::yield();
-      continue;
+      next = ready.top();
+      ready.pop();
     }
     const size_t i = size_t(next);
     for (int once = 0; once < 1; ++once) {  // `continue` ends the feather
@@ -382,6 +442,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       if (!(axis_raw.norm() > 1e-12 * std::max(shaft.norm(), 1e-300))) continue;
       const Vec axis = axis_raw.normalized();
       const double max_angle = std::acos(std::clamp(shaft.normalized().dot(normal), -1.0, 1.0));
+      const double cos_max = std::cos(max_angle), sin_max = std::sin(max_angle);
       // A turn about the axis keeps a point's height along the axis and its distance from it, so a
       // group of mine can meet a lower group at some angle only when both differ by at most the
       // sum of their radii and the gap: per group of mine, the lower groups that pass (with a slack
@@ -389,6 +450,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       struct Candidate {
         const FeatherVanes *feather;
         size_t group;
+        // The turns a at which the spheres may meet: cos(a) along + sin(a) across >= least (a
+        // shrink tests the spheres themselves)
+        double along, across, least;
       };
       auto ring = [&](const Vec &c) {
         const Vec d = c - mine.root;
@@ -396,25 +460,66 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         return Eigen::Vector2d(h, (d - h * axis).norm());
       };
       std::vector<Eigen::Vector2d> mine_rings(mine.centers.size());
-      for (size_t g = 0; g < mine.centers.size(); ++g) mine_rings[g] = ring(mine.centers[g]);
+      Eigen::AlignedBox2d rings_box;  // of my groups' rings, with their largest radius
+      double largest_radius = 0.0;
+      for (size_t g = 0; g < mine.centers.size(); ++g) {
+        mine_rings[g] = ring(mine.centers[g]);
+        rings_box.extend(mine_rings[g]);
+        largest_radius = std::max(largest_radius, mine.radii[g]);
+      }
+      // Whether the point at `d` from the root, turned by a, comes within `reach` of `center`: with
+      // d = h axis + v and w = center - root, the turned point is at the squared distance
+      // |d|^2 + |w|^2 - 2 (h axis.w + cos(a) v.w + sin(a) (axis x v).w) from it, so it does where
+      // cos(a) r_along + sin(a) r_across >= r_least (with a slack for rounding); false when at no a.
+      auto turns_meeting = [&](const Vec &d, const Vec &center, double reach, double &r_along, double &r_across,
+                               double &r_least) {
+        const Vec w = center - mine.root;
+        const double h = d.dot(axis);
+        const Vec v = d - h * axis;
+        r_along = v.dot(w);
+        r_across = axis.cross(v).dot(w);
+        const double tolerance = 1e-9 * (d.squaredNorm() + w.squaredNorm() + reach * reach);
+        r_least = 0.5 * (d.squaredNorm() + w.squaredNorm() - 2.0 * h * axis.dot(w) - reach * reach) - tolerance;
+        // The largest of cos(a) along + sin(a) across for a in [0, max_angle]: the amplitude where
+        // its phase lies in there, else at an end.
+        const double amplitude = std::hypot(r_along, r_across);
+        const double largest = r_across >= 0.0 && r_along >= amplitude * cos_max
+                                   ? amplitude
+                                   : std::max(r_along, cos_max * r_along + sin_max * r_across);
+        return largest >= r_least - tolerance;
+      };
       // (A shrink changes both, so the search by shrinking gathers its candidates without it.)
       std::vector<std::vector<Candidate>> candidates;
       const double slack = 1e-9 * (mine.extent + mine.root.cwiseAbs().maxCoeff());
       auto gather = [&](bool turns_only) {
         candidates.assign(mine.centers.size(), {});
         bool any = false;
-        for (const int32_t j : near[i]) {
-          if (order.rank[size_t(j)] >= order.rank[i]) continue;
+        for (const int32_t j : below[i]) {
           const FeatherVanes *f = &placed[size_t(j)];
+          if (f->triangles.empty() || f->box.exteriorDistance(mine.root) > mine.extent + gap + slack) continue;
           for (size_t k = 0; k < f->centers.size(); ++k) {
             if ((f->centers[k] - mine.root).norm() > mine.extent + f->radii[k] + gap) continue;
             const Eigen::Vector2d other = ring(f->centers[k]);
+            if (turns_only) {
+              const double reach = largest_radius + f->radii[k] + gap + slack;
+              if (rings_box.squaredExteriorDistance(other) > reach * reach) continue;
+            }
             for (size_t g = 0; g < mine.centers.size(); ++g) {
               const double reach = mine.radii[g] + f->radii[k] + gap + slack;
               if (turns_only &&
                   (std::abs(other.x() - mine_rings[g].x()) > reach || std::abs(other.y() - mine_rings[g].y()) > reach))
                 continue;
-              candidates[g].push_back({f, k});
+              // A shrink keeps the group's center on the segment from the root to it, its radius
+              // no larger.
+              if (!turns_only) {
+                const Vec along = mine.centers[g] - mine.root, to_other = f->centers[k] - mine.root;
+                const double t = std::clamp(to_other.dot(along) / std::max(along.squaredNorm(), 1e-300), 0.0, 1.0);
+                if ((to_other - t * along).squaredNorm() > reach * reach) continue;
+              }
+              double along = 0.0, across = 0.0, least = 0.0;
+              if (turns_only && !turns_meeting(mine.centers[g] - mine.root, f->centers[k], reach, along, across, least))
+                continue;
+              candidates[g].push_back({f, k, along, across, least});
               any = true;
             }
           }
@@ -426,8 +531,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       std::vector<const FeatherVanes *> lower;
       std::vector<Vec> lower_centers;  // of the lower vanes' boxes, with their half diagonals
       std::vector<double> lower_radii;
-      for (const int32_t j : near[i])
-        if (order.rank[size_t(j)] < order.rank[i] && !placed[size_t(j)].triangles.empty()) {
+      for (const int32_t j : below[i])
+        if (!placed[size_t(j)].triangles.empty()) {
           const FeatherVanes &f = placed[size_t(j)];
           lower.push_back(&f);
           lower_centers.push_back(f.box.center());
@@ -448,11 +553,25 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // for rounding). `outward_lower` lists them (places in `lower`) from `outward_first[k]`.
       std::vector<int32_t> outward_lower;
       std::vector<size_t> outward_first(outward.size() + 1, 0);
+      std::vector<Eigen::Vector2d> lower_rings(lower.size());
+      for (size_t l = 0; l < lower.size(); ++l) lower_rings[l] = ring(lower_centers[l]);
+      std::vector<Eigen::Vector2d> outward_rings(outward.size());
+      Eigen::AlignedBox2d outward_box;  // of the vertices' rings
       for (size_t k = 0; k < outward.size(); ++k) {
-        const Eigen::Vector2d at = ring(r_frame.vanes.positions[size_t(outward[k])].cast<double>());
-        for (size_t l = 0; l < lower.size(); ++l) {
+        outward_rings[k] = ring(r_frame.vanes.positions[size_t(outward[k])].cast<double>());
+        outward_box.extend(outward_rings[k]);
+      }
+      std::vector<size_t> near_lower;  // the lower feathers within reach of some vertex's ring's box
+      for (size_t l = 0; l < lower.size(); ++l) {
+        const double reach = lower[l]->extent + lower_radii[l] + slack;
+        if (!outward_box.isEmpty() && outward_box.squaredExteriorDistance(lower_rings[l]) <= reach * reach)
+          near_lower.push_back(l);
+      }
+      for (size_t k = 0; k < outward.size(); ++k) {
+        const Eigen::Vector2d &at = outward_rings[k];
+        for (const size_t l : near_lower) {
           const double reach = lower[l]->extent + lower_radii[l] + slack;
-          if ((ring(lower_centers[l]) - at).squaredNorm() <= reach * reach) outward_lower.push_back(int32_t(l));
+          if ((lower_rings[l] - at).squaredNorm() <= reach * reach) outward_lower.push_back(int32_t(l));
         }
         outward_first[k + 1] = outward_lower.size();
       }
@@ -471,27 +590,35 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       } witness;
       size_t call = 0;
       std::vector<size_t> turned_in(mine.centers.size(), SIZE_MAX);  // the call that turned a group
+      std::vector<Eigen::AlignedBox3d> moved_group_boxes(mine.centers.size());
+      const auto apart = [&](const Eigen::AlignedBox3d &a, const Eigen::AlignedBox3d &b) {
+        return (a.min().array() > b.max().array() + gap).any() || (b.min().array() > a.max().array() + gap).any();
+      };
       auto pair_conflict = [&](const Eigen::Matrix3d &turn, size_t g, size_t c) {
         const size_t end = std::min(mine.triangles.size(), g * kGroup + kGroup);
         if (turned_in[g] != call) {
+          moved_group_boxes[g].setEmpty();
           for (size_t t = g * kGroup; t < end; ++t) {
             moved_boxes[t].setEmpty();
             for (int v = 0; v < 3; ++v) {
               moved[t][size_t(v)] = mine.root + turn * (mine.triangles[t][size_t(v)] - mine.root);
               moved_boxes[t].extend(moved[t][size_t(v)]);
             }
+            moved_group_boxes[g].extend(moved_boxes[t]);
           }
           turned_in[g] = call;
         }
         const Candidate &k = candidates[g][c];
+        const Eigen::AlignedBox3d &other_box = k.feather->group_boxes[k.group];
+        if (apart(moved_group_boxes[g], other_box)) return false;
         const size_t other_end = std::min(k.feather->triangles.size(), k.group * kGroup + kGroup);
-        for (size_t t = g * kGroup; t < end; ++t)
+        for (size_t t = g * kGroup; t < end; ++t) {
+          if (apart(moved_boxes[t], other_box)) continue;
           for (size_t u = k.group * kGroup; u < other_end; ++u) {
-            const Eigen::AlignedBox3d &a = moved_boxes[t], &b = k.feather->boxes[u];
-            if ((a.min().array() > b.max().array() + gap).any() || (b.min().array() > a.max().array() + gap).any())
-              continue;
+            if (apart(moved_boxes[t], k.feather->boxes[u])) continue;
             if (too_close(moved[t], k.feather->triangles[u], gap2)) return true;
           }
+        }
         return false;
       };
       // Below the skin. On a closed skin the signed distance is the distance with a sign, which
@@ -503,6 +630,20 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       const int64_t v0 = ranges.first_vertex[i], v1 = ranges.first_vertex[i + 1];
       const bool closed_skin = skin && skin->open_edges().empty();
       const double skin_slack = 1e-4 * mine.extent + 1e-6 * mine.root.cwiseAbs().maxCoeff();
+      // The signed distance to the skin, and in r_near the closest skin point, searched from r_near
+      // (the same vertex's last one): in the grid's cells around p when that settles it, else in the
+      // skin's tree from there.
+      auto skin_distance = [&](const Vec &p, SurfacePoint &r_near) {
+        float distance = 0.0f;
+        SurfacePoint found;
+        if (grid->local_signed_distance(p.cast<float>(), int(r_near.triangle), distance, found)) {
+          r_near = found;
+          return double(distance);
+        }
+        SurfacePoint hint = r_near;
+        return skin->signed_distance(p, hint, r_near);
+      };
+      std::vector<SurfacePoint> mine_skin(skin ? size_t(v1 - v0) : 0);  // per vertex: its last closest point
       struct Known {
         double distance, angle, scale;
       };
@@ -515,18 +656,22 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (known.empty()) {
             known.resize(size_t(v1 - v0));
             for (int64_t y = v0; y < v1; ++y)
-              known[size_t(y - v0)] = {double(skin->signed_distance(r_frame.vanes.positions[size_t(y)])), 0.0, 1.0};
+              known[size_t(y - v0)] = {
+                  skin_distance(r_frame.vanes.positions[size_t(y)].cast<double>(), mine_skin[size_t(y - v0)]),
+                  0.0, 1.0};
           }
           Known &k = known[size_t(x - v0)];
           // |s R(a) - s' R(a')| <= |s - s'| + s' |R(a) - R(a')| = |s - s'| + 2 s' sin(|a - a'| / 2).
           const double move = std::abs(scale - k.scale) + 2.0 * k.scale * std::sin(0.5 * std::abs(angle - k.angle));
           if (k.distance > move * from_root + skin_slack) return false;
           const Vec q = mine.root + turn * (p - mine.root);
-          k = {double(skin->signed_distance(q.cast<float>())), angle, scale};
+          SurfacePoint &near_skin = mine_skin[size_t(x - v0)];
+          k = {skin_distance(q, near_skin), angle, scale};
           return k.distance < 0.0;
         }
         const Vec q = mine.root + turn * (p - mine.root);
-        return skin->signed_distance(q.cast<float>()) < 0.0f;
+        SurfacePoint &near_skin = mine_skin[size_t(x - v0)];
+        return skin_distance(q, near_skin) < 0.0;
       };
       // Under a lower feather: the way out from a vertex of mine along the skin's normal (at the skin
       // point closest to it, as the checker takes it) meets a lower feather's vanes within that
@@ -534,13 +679,15 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // beyond a fold of skin counts too (more turning asked than needed, never less).
       bool under_test = !outward_lower.empty();
       std::vector<SurfacePoint> closest_hints(under_test && skin ? size_t(v1 - v0) : 0);
-      // With `r_over`, every lower feather over the vertex is marked there (by its place in `lower`).
-      auto under_lower = [&](const Eigen::Matrix3d &turn, size_t k, std::vector<char> *r_over = nullptr) {
+      // With `r_over`, every lower feather over the vertex not marked yet is marked there (by its
+      // place in `lower`), and their number returned.
+      auto under_lower = [&](const Eigen::Matrix3d &turn, size_t k,
+                             std::vector<char> *r_over = nullptr) -> std::ptrdiff_t {
         const int64_t x = outward[k];
         const Vec q = mine.root + turn * (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root);
         Vec out = normal;
         bool out_known = !skin;
-        bool any = false;
+        std::ptrdiff_t marked = 0;
         for (size_t c = outward_first[k]; c < outward_first[k + 1]; ++c) {
           const size_t l = size_t(outward_lower[c]);
           if (r_over && (*r_over)[l]) continue;
@@ -549,9 +696,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           const double reach = f.extent + lower_radii[l];
           if (to_center.squaredNorm() > reach * reach) continue;
           if (!out_known) {
+            // The way out, whichever its direction, must reach one of the lower vanes' groups
+            // before the skin is asked for it.
+            bool reachable = false;
+            for (size_t g = 0; g < f.centers.size() && !reachable; ++g) {
+              const double group_reach = f.extent + f.radii[g] * (1.0 + 1e-9) + slack;
+              reachable = (f.centers[g] - q).squaredNorm() <= group_reach * group_reach;
+            }
+            if (!reachable) continue;
             // The closest skin point moves little from one turn to the next: searched from the last.
             SurfacePoint &closest = closest_hints[size_t(x - v0)];
-            closest = closest.triangle < 0 ? skin->closest(Eigen::Vector3f(q.cast<float>())) : skin->closest(q, closest);
+            skin_distance(q, closest);
             out = surface_normal(skin->mesh(), closest).cast<double>();
             out_known = true;
           }
@@ -562,6 +717,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (!segment_meets_box(q, end, f.box)) continue;
           bool hit = false;
           for (size_t g = 0; g < f.group_boxes.size() && !hit; ++g) {
+            // The group's sphere (widened for rounding), then its box.
+            const Vec to_group = f.centers[g] - q;
+            const double along = std::clamp(to_group.dot(out), 0.0, f.extent);
+            const double radius = f.radii[g] * (1.0 + 1e-9) + slack;
+            if ((to_group - along * out).squaredNorm() > radius * radius) continue;
             if (!segment_meets_box(q, end, f.group_boxes[g])) continue;
             const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
             for (size_t u = g * kGroup; u < group_end && !hit; ++u) {
@@ -570,29 +730,40 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             }
           }
           if (!hit) continue;
-          if (!r_over) return true;
+          if (!r_over) return 1;
           (*r_over)[l] = 1;
-          any = true;
+          ++marked;
         }
-        return any;
+        return marked;
       };
-      auto conflict = [&](double angle, double scale = 1.0) {
+      // With `r_clear`, what the call learnt of the turn without the test for lower feathers over
+      // it: 0 it conflicts, 1 it does not, unchanged when the call did not find out.
+      auto conflict = [&](double angle, double scale = 1.0, signed char *r_clear = nullptr) {
         const Eigen::Matrix3d turn = scale * Eigen::AngleAxisd(angle, axis).toRotationMatrix();
         ++call;
         const bool turned = angle > 0.0 || scale != 1.0;
-        if (witness.kind == 1 && pair_conflict(turn, witness.group, witness.candidate)) return true;
-        if (witness.kind == 2 && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return true;
+        const double cos_angle = std::cos(angle), sin_angle = std::sin(angle);
+        const auto blocked = [&] {
+          if (r_clear) *r_clear = 0;
+          return true;
+        };
+        if (witness.kind == 1 && pair_conflict(turn, witness.group, witness.candidate)) return blocked();
+        if (witness.kind == 2 && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return blocked();
         if (witness.kind == 3 && under_test && under_lower(turn, size_t(witness.vertex))) return true;
         for (size_t g = 0; g < mine.centers.size(); ++g) {
           if (candidates[g].empty()) continue;
-          const Vec c = mine.root + turn * (mine.centers[g] - mine.root);
+          const Vec c = scale == 1.0 ? mine.centers[g] : Vec(mine.root + turn * (mine.centers[g] - mine.root));
           for (size_t k = 0; k < candidates[g].size(); ++k) {
             const Candidate &other = candidates[g][k];
-            const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
-            if ((other.feather->centers[other.group] - c).squaredNorm() > reach * reach) continue;
+            if (scale == 1.0) {
+              if (cos_angle * other.along + sin_angle * other.across < other.least) continue;
+            } else {
+              const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
+              if ((other.feather->centers[other.group] - c).squaredNorm() > reach * reach) continue;
+            }
             if (pair_conflict(turn, g, k)) {
               witness = {1, g, k, 0};
-              return true;
+              return blocked();
             }
           }
         }
@@ -602,8 +773,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           for (int64_t x = v0; x < v1; ++x)
             if (below_skin(angle, scale, turn, x)) {
               witness = {2, 0, 0, x};
-              return true;
+              return blocked();
             }
+        if (r_clear) *r_clear = 1;
         if (under_test)
           for (size_t k = 0; k < outward.size(); ++k)
             if (under_lower(turn, k)) {
@@ -612,22 +784,21 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             }
         return false;
       };
-      if (!conflict(0.0)) continue;
+      // Per step of the search (0 unturned), what is known of it without the test for lower feathers
+      // over it (as conflict's r_clear; -1 unknown): the search for the turn under the fewest reuses it.
+      std::vector<signed char> step_clear(1, -1);
+      if (!conflict(0.0, 1.0, &step_clear[0])) continue;
       constexpr double kStep = 0.02;  // radians, about 1.1 degrees
       double below = 0.0, above = -1.0;
-      auto search = [&] {
-        below = 0.0;
-        above = -1.0;
-        for (double a = kStep; a < max_angle + kStep; a += kStep) {
-          const double at = std::min(a, max_angle);
-          if (!conflict(at)) {
-            above = at;
-            break;
-          }
-          below = at;
+      for (double a = kStep; a < max_angle + kStep; a += kStep) {
+        const double at = std::min(a, max_angle);
+        step_clear.push_back(-1);
+        if (!conflict(at, 1.0, &step_clear.back())) {
+          above = at;
+          break;
         }
-      };
-      search();
+        below = at;
+      }
       if (above < 0.0 && under_test) {
         // No turn up to the skin normal takes it out from under the lower feathers: it is left under
         // some (named), rather than shrunk until none is over it. Of the turns that keep it clear of
@@ -638,19 +809,25 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         ++left_under;
         unordered[i] = 1;
         std::vector<char> over(lower.size());
-        auto under_count = [&](double angle) {
+        // How many lower feathers are over it at `angle`, counted up to `enough` (no more is asked).
+        auto under_count = [&](double angle, std::ptrdiff_t enough) {
           std::fill(over.begin(), over.end(), char(0));
           const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
-          for (size_t k = 0; k < outward.size(); ++k) under_lower(turn, k, &over);
-          return std::count(over.begin(), over.end(), char(1));
+          std::ptrdiff_t count = 0;
+          for (size_t k = 0; k < outward.size() && count < enough; ++k) count += under_lower(turn, k, &over);
+          return count;
         };
-        auto worse = [&](double angle, std::ptrdiff_t bound) { return conflict(angle) || under_count(angle) > bound; };
+        auto worse = [&](double angle, std::ptrdiff_t bound) {
+          return conflict(angle) || under_count(angle, bound + 1) > bound;
+        };
         std::ptrdiff_t best = PTRDIFF_MAX;
         double previous = 0.0, best_below = 0.0;
-        for (double a = 0.0; a < max_angle + kStep; a += kStep) {
+        size_t step = 0;
+        for (double a = 0.0; a < max_angle + kStep; a += kStep, ++step) {
           const double at = std::min(a, max_angle);
-          if (!conflict(at)) {
-            const std::ptrdiff_t count = under_count(at);
+          const signed char known_clear = step < step_clear.size() ? step_clear[step] : -1;
+          if (known_clear == 1 || (known_clear == -1 && !conflict(at))) {
+            const std::ptrdiff_t count = under_count(at, best);
             if (count < best) {
               best = count;
               above = at;
@@ -658,7 +835,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             }
           }
           previous = at;
-          if (at == max_angle) break;
+          // Every turn clear of the lower feathers is under one at least (the search above found no
+          // turn under none): the first under one only is the answer.
+          if (at == max_angle || best == 1) break;
         }
         if (above > 0.0) {
           below = best_below;
@@ -714,10 +893,13 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       ++lifted;
       largest = std::max(largest, float(above));
     }
-    const std::lock_guard<std::mutex> lock(mutex);
-    for (const int32_t k : higher[i])
-      if (--waiting[size_t(k)] == 0) ready.push_back(k);
-    ++done;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      for (const int32_t k : higher[i])
+        if (--waiting[size_t(k)] == 0) ready.push(k);
+      ++done;
+    }
+    woken.notify_all();
   }
   stats.lifted = lifted;
   stats.unresolved = unresolved;

@@ -25,6 +25,16 @@ struct FeatherRanges {
   size_t size() const { return first_vertex.empty() ? 0 : first_vertex.size() - 1; }
 };
 
+/// A feather's place in an order the groom gives (docs/feathers.md, "Layers"): a feather with a
+/// smaller key lies below one with a larger key, whatever covers what at rest; keys compare
+/// lexicographically (tier, then layer, then map). Coverage orders feathers of equal keys.
+struct LayerKey {
+  int tier = 0;        // -1: a `rear` tract, below every other; 1: a `front` tract, above; 0: neither
+  float layer = 0.0f;  // its heaviest key feather's `layer`
+  float map = 0.0f;    // the `layers.map` vertex map at its follicle
+  auto operator<=>(const LayerKey &) const = default;
+};
+
 /// The layer order, bottom first, frozen at rest.
 struct LayerOrder {
   std::vector<int32_t> bottom_up;  // feather indices, bottom first
@@ -33,6 +43,9 @@ struct LayerOrder {
   /// at rest: i lies above j. Coverings the order could not keep (cycles), as (covering, covered)
   /// feather indices: the rule that broke them is layer_order_from_coverage's.
   std::vector<std::pair<int32_t, int32_t>> broken;
+  /// Coverings the given keys reverse (the covering feather has the smaller key, so it lies below),
+  /// as (covering, covered) feather indices, ascending.
+  std::vector<std::pair<int32_t, int32_t>> overridden;
   int64_t coverings = 0;
 };
 
@@ -41,7 +54,12 @@ struct LayerOrder {
 /// (the smallest index among them); when none is left (a cycle), the remaining feather covering the
 /// fewest remaining roots (then the smallest index) goes next, and its coverings of those roots are
 /// broken (reported in `broken`). Deterministic.
-LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges);
+/// `keys` (empty, or one per feather): the groom's order. The next feather is then always one of the
+/// smallest key left, and coverage (with the rule above) orders only feathers of equal keys; coverings
+/// the keys reverse do not count (reported in `overridden`). Equal keys everywhere give the order
+/// from coverage alone.
+LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges,
+                                     std::span<const LayerKey> keys = {});
 
 struct LayeringOptions {
   /// The gap kept between a feather's vanes and every lower feather's, as a fraction of the

@@ -104,6 +104,10 @@ struct KeyFeather {
   float radius = 0.0f;
   /// Development stage in [0, 1] of the feathers it places (1: adult).
   float stage = 1.0f;
+  /// With layers: the feathers whose heaviest key feather this is lie above those of a key feather
+  /// with a smaller layer (docs/feathers.md, "Layers").
+  float layer = 0.0f;
+  bool layer_given = false;
   FileLoc loc;
 };
 
@@ -166,6 +170,12 @@ struct FeatherDesc {
   /// the groom asks (layers: {enabled: true}): its cost grows with the coat's density.
   bool layers = false;
   float layer_offset = 0.002f;
+  /// The layer order's own sources besides coverage at rest (docs/feathers.md, "Layers"): a vertex
+  /// map (one number in [0, 1] per emitter vertex; a feather lies above those with a smaller value at
+  /// their follicles), and tracts whose feathers lie above (front) or below (rear) every other.
+  std::string layer_map_path;
+  std::vector<std::string> layer_front, layer_rear;
+  FileLoc layer_front_loc, layer_rear_loc;
   FileLoc loc;
 
   /// Index of a template by name, or -1.

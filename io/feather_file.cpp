@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "groom/limits.h"
 #include "io/file_scan.h"
@@ -269,6 +270,8 @@ KeyFeather FeatherReader::read_key_feather(const YAML::Node &node, const std::st
   }
   k.radius = non_negative(m, "radius", k.radius);
   k.stage = within(m, "stage", k.stage, 0.0, 1.0);
+  k.layer_given = m.given("layer");
+  k.layer = within(m, "layer", k.layer, -max_number, max_number);
   m.finish();
   return k;
 }
@@ -401,6 +404,19 @@ FeatherDesc FeatherReader::read(const YAML::Node &node) {
   YamlMap layers = m.map("layers");
   d.layers = layers.boolean("enabled", d.layers);
   d.layer_offset = within(layers, "offset", d.layer_offset, 0.0, 0.5);
+  if (layers.given("map")) d.layer_map_path = existing_file(layers, "map", {});
+  for (auto [key, list, loc] : {std::tuple{"front", &d.layer_front, &d.layer_front_loc},
+                                std::tuple{"rear", &d.layer_rear, &d.layer_rear_loc}}) {
+    if (!layers.given(key)) continue;
+    *list = layers.string_list(key);
+    *loc = layers.loc(key);
+    if (list->empty()) fail_expected(file_, layers.node(key), layers.key_path(key), "at least one face group");
+  }
+  for (const std::string &name : d.layer_front)
+    if (std::find(d.layer_rear.begin(), d.layer_rear.end(), name) != d.layer_rear.end())
+      throw InputError(d.layer_rear_loc, layers.key_path("rear") + ": the face group \"" + name +
+                                             "\" is also in " + layers.key_path("front") +
+                                             " (a tract is either in front or at the rear)");
   layers.finish();
   m.finish();
   return d;
@@ -413,19 +429,7 @@ FeatherDesc read_feathers_section(const YAML::Node &node, const std::string &fil
 }
 
 std::vector<FeatherTemplate> read_template_file(const std::string &path) {
-  YAML::Node document;
-  try {
-    document = YAML::LoadFile(path);
-  } catch (const YAML::ParserException &e) {
-    FileLoc loc{path};
-    if (e.mark.line >= 0) {
-      loc.line = e.mark.line + 1;
-      loc.column = e.mark.column + 1;
-    }
-    throw InputError(loc, "YAML syntax error: " + e.msg);
-  } catch (const YAML::BadFile &) {
-    throw InputError(FileLoc{path}, "cannot read the template file: it could not be opened");
-  }
+  const YAML::Node document = load_yaml_file(path, "template file");
   FeatherReader reader(path, fs::absolute(fs::path(path)).parent_path());
   YamlMap root(document, "", path);
   if (!root.given("templates")) throw InputError(root.loc(), "templates: missing required key (a map of name: template)");

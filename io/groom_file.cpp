@@ -764,19 +764,7 @@ GroomDesc read_groom_file(const std::string &path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(FileLoc{path}, "cannot read the groom file: no such file");
   if (!fs::is_regular_file(path, ec)) throw InputError(FileLoc{path}, "cannot read the groom file: not a regular file");
-  YAML::Node document;
-  try {
-    document = YAML::LoadFile(path);
-  } catch (const YAML::ParserException &e) {
-    FileLoc loc{path};
-    if (e.mark.line >= 0) {
-      loc.line = e.mark.line + 1;
-      loc.column = e.mark.column + 1;
-    }
-    throw InputError(loc, "YAML syntax error: " + e.msg);
-  } catch (const YAML::BadFile &) {
-    throw InputError(FileLoc{path}, "cannot read the groom file: it could not be opened");
-  }
+  const YAML::Node document = load_yaml_file(path, "groom file");
   return GroomReader(path).read(document);
 }
 

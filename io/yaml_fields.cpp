@@ -49,6 +49,21 @@ std::string format_number(double v) {
 }
 }  // namespace
 
+YAML::Node load_yaml_file(const std::string &path, const std::string &what) {
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::ParserException &e) {
+    FileLoc loc{path};
+    if (e.mark.line >= 0) {
+      loc.line = e.mark.line + 1;
+      loc.column = e.mark.column + 1;
+    }
+    throw InputError(loc, "YAML syntax error: " + e.msg);
+  } catch (const YAML::BadFile &) {
+    throw InputError(FileLoc{path}, "cannot read the " + what + ": it could not be opened");
+  }
+}
+
 FileLoc node_loc(const std::string &file, const YAML::Node &node) {
   FileLoc loc{file};
   const YAML::Mark mark = node.Mark();

@@ -15,6 +15,10 @@
 
 namespace plume::io {
 
+/// The YAML document of the file at `path`: InputError "path:line:col: YAML syntax error: ..." for a
+/// syntax error, and "path: cannot read the <what>: it could not be opened" when it cannot be read.
+YAML::Node load_yaml_file(const std::string &path, const std::string &what);
+
 /// FileLoc of a node (yaml-cpp marks are 0-based; FileLoc is 1-based).
 FileLoc node_loc(const std::string &file, const YAML::Node &node);
 /// InputError "file:line:col: path: expected <expected>, got <what the node holds>".

@@ -478,3 +478,60 @@ TEST_CASE("every groom in grooms/ on the frames it renders: checked at its pose,
     }
   }
 }
+
+TEST_CASE("check --frames checks every frame of a range as --frame does, and fails on a missing frame", "[cli]") {
+  ScratchDir scratch("check_frames");
+  const std::string groom = write_sintel_groom(scratch, "rigid", "");
+  REQUIRE(run_plume("regrow " + quoted(groom) + " --frames 1-5 --out " + quoted(scratch / "h.####.hair"), scratch)
+              .exit_code == 0);
+  // Every other frame: each report is the one a check of that frame alone gives.
+  const JsonCheck range = check_json(quoted(scratch / "h.####.hair") + " --groom " + quoted(groom) +
+                                         " --frames 1-5:2 --strict", scratch);
+  CHECK(range.exit_code == 0);
+  CHECK(range["frames_checked"] == 3);
+  CHECK(range.text("frames_failed") == "[]");
+  for (const int i : {0, 1, 2}) {
+    const int frame = 1 + 2 * i;
+    INFO("frame " << frame);
+    const JsonCheck alone = check_json(quoted(scratch / ("h.000" + std::to_string(frame) + ".hair")) + " --groom " +
+                                           quoted(groom) + " --frame " + std::to_string(frame) + " --strict",
+                                       scratch);
+    const std::string prefix = "frames." + std::to_string(i) + ".";
+    size_t compared = 0;
+    for (const auto &[key, value] : alone.leaves) {
+      if (key == "file") continue;  // the same file, named as given
+      INFO(key);
+      REQUIRE(range.leaves.count(prefix + key));
+      CHECK(range.leaves.at(prefix + key) == value);
+      ++compared;
+    }
+    CHECK(compared > 10);
+    CHECK(range[prefix + "frame"] == frame);
+  }
+  // Frame 5 against the pose of frame 1 breaks the promise: a range whose file for one frame is
+  // another frame's fails --strict there, and names it.
+  fs::copy_file(scratch / "h.0005.hair", scratch / "w.0003.hair");
+  fs::copy_file(scratch / "h.0001.hair", scratch / "w.0001.hair");
+  fs::copy_file(scratch / "h.0002.hair", scratch / "w.0002.hair");
+  const RunResult text = run_plume("check " + quoted(scratch / "w.####.hair") + " --groom " + quoted(groom) +
+                                       " --frames 1-3 --strict", scratch);
+  CHECK(text.exit_code == 3);
+  CHECK(text.out.find("frames 1-3: 3 checked, broken promises at frames 3\n") != std::string::npos);
+
+  // Bad uses exit 2 before any frame is checked.
+  for (const auto &[args, message] : std::vector<std::pair<std::string, std::string>>{
+           {quoted(scratch / "h.####.hair") + " --groom " + quoted(groom) + " --frames 1-6",
+            "--frames: frame 6: " + (scratch / "h.0006.hair") + " does not exist"},
+           {quoted(scratch / "h.0001.hair") + " --groom " + quoted(groom) + " --frames 1-2", "has no frame field"},
+           {quoted(scratch / "h.####.hair") + " --mesh " + quoted(sintel_dir() + "/sintel.obj") + " --frames 1-2",
+            "--frames: needs --groom"},
+           {quoted(scratch / "h.####.hair") + " --groom " + quoted(groom) + " --frames 1-2 --frame 1",
+            "give --frames or --frame, not both"},
+           {quoted(scratch / "h.####.hair") + " --groom " + quoted(groom) + " --frames 3-1", "--frames"}}) {
+    INFO(args);
+    const RunResult bad = run_plume("check " + args, scratch);
+    CHECK(bad.exit_code == 2);
+    CHECK(bad.out.empty());
+    CHECK(bad.err.find(message) != std::string::npos);
+  }
+}

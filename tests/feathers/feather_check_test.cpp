@@ -4,6 +4,7 @@
 // fails --strict past its bound; layer-order violations fail --strict; bad uses exit 2.
 #include <catch2/catch.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -25,8 +26,9 @@ double field(const std::string &json, const std::string &section, const std::str
   return std::stod(json.substr(k + key.size() + 4));
 }
 
-/// The bird's groom with its layering pass on, its files named from `dir`.
-std::string layered_bird(const ScratchDir &scratch) {
+/// The bird's groom with its layering pass on (`layers`: the groom's layers map), its files named
+/// from `dir`.
+std::string layered_bird(const ScratchDir &scratch, const std::string &layers = "{enabled: true}") {
   std::string text = read_text(kBird);
   const auto replace = [&](const std::string &from, const std::string &to) {
     const size_t at = text.find(from);
@@ -37,7 +39,7 @@ std::string layered_bird(const ScratchDir &scratch) {
   replace("sequence: anim/", "sequence: " + kBirdDir + "anim/");
   replace("file: stems.obj", "file: " + kBirdDir + "stems.obj");
   replace("template_files: [bird.feathers.yaml]", "template_files: [" + kBirdDir + "bird.feathers.yaml]");
-  replace("  detail:", "  layers: {enabled: true}\n  detail:");
+  replace("  detail:", "  layers: " + layers + "\n  detail:");
   const std::string path = (scratch / "layered.groom.yaml");
   std::ofstream(path) << text;
   return path;
@@ -161,4 +163,88 @@ TEST_CASE("a feather frame against itself neither flips nor pops; a planted pop 
   const RunResult mismatch = run_plume(same + "--previous " + quoted(scratch / "w.0023.obj"), scratch);
   CHECK(mismatch.exit_code == 2);
   CHECK(mismatch.err.find("holds other feathers than") != std::string::npos);
+}
+
+TEST_CASE("plume regrow and plume check follow the groom's layer order: front tracts above what covers them",
+          "[feathers][cli]") {
+  ScratchDir scratch("feather_check_front");
+  const auto order_of = [&](const std::string &layers, const std::string &name) {
+    const std::string groom = layered_bird(scratch, layers);
+    const std::string vanes = scratch / (name + ".####.obj"), frame = scratch / (name + ".0001.obj");
+    const RunResult run = run_plume("regrow " + quoted(groom) + " --strands 400 --frames 1 --no-preview --vanes " +
+                                        quoted(vanes), scratch);
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    const RunResult check = run_plume("check " + quoted(frame) + " --groom " + quoted(groom) + " --frame 1 --json", scratch);
+    INFO(check.out << check.err);
+    REQUIRE(check.exit_code == 0);
+    REQUIRE(check.out.find("\"broken_examples\": [") != std::string::npos);
+    return std::pair{field(check.out, "layer_order", "overridden_at_rest"), field(check.out, "layer_order", "violations")};
+  };
+  // The flight feathers put above the coverts that cover their bases at rest: those coverings are
+  // reversed, and the order the check judges by is the one the layering pass followed.
+  const auto [front_reversed, front_violations] = order_of("{enabled: true, front: [left_flight, right_flight]}", "front");
+  const double plain_reversed = order_of("{enabled: true}", "plain").first;
+  CHECK(front_reversed > 0);
+  CHECK(plain_reversed == 0);
+  // Judged by the coverage order instead, the flights over the coverts would count as violations.
+  const std::string plain_groom = layered_bird(scratch, "{enabled: true}");
+  const RunResult against = run_plume("check " + quoted(scratch / "front.0001.obj") + " --groom " + quoted(plain_groom) +
+                                          " --frame 1 --json", scratch);
+  REQUIRE(against.exit_code == 0);
+  CHECK(field(against.out, "layer_order", "violations") > front_violations);
+}
+
+TEST_CASE("a bad layer map or an unknown front tract exits 2 naming the key, and writes nothing", "[feathers][cli]") {
+  ScratchDir scratch("feather_bad_layers");
+  std::ofstream(scratch / "short_map.txt") << "0.5\n0.2\n";
+  const std::string map = scratch / "short_map.txt";
+  for (const auto &[layers, expected] :
+       {std::pair{"{enabled: true, map: " + map + "}", std::string("values (one per emitter vertex), got 2")},
+        std::pair{std::string("{enabled: true, front: [tail, wingz]}"), std::string("no face group \"wingz\"")}}) {
+    const std::string groom = layered_bird(scratch, layers);
+    const RunResult run = run_plume("regrow " + quoted(groom) + " --strands 50 --frames 1 --no-preview --vanes " +
+                                        quoted(scratch / "v.####.obj"), scratch);
+    INFO(run.err);
+    CHECK(run.exit_code == 2);
+    CHECK(run.err.find(expected) != std::string::npos);
+    const std::string key = layers.find("map") != std::string::npos ? "feathers.layers.map" : "feathers.layers.front";
+    CHECK(run.err.find(key) != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(scratch / "v.0001.obj"));
+  }
+}
+
+TEST_CASE("plume check --frames compares each feather frame with the one before it in the range", "[feathers][cli]") {
+  ScratchDir scratch("feather_check_frames");
+  const RunResult run = run_plume("regrow " + quoted(kBird) + " --strands 300 --frames 22-24 --no-preview --vanes " +
+                                      quoted(scratch / "v.####.obj"), scratch);
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const RunResult range = run_plume("check " + quoted(scratch / "v.####.obj") + " --groom " + quoted(kBird) +
+                                        " --frames 22-24 --max-pop 1000 --json", scratch);
+  INFO(range.err);
+  REQUIRE(range.exit_code == 0);
+  const RunResult alone = run_plume("check " + quoted(scratch / "v.0024.obj") + " --groom " + quoted(kBird) +
+                                        " --frame 24 --previous " + quoted(scratch / "v.0023.obj") +
+                                        " --max-pop 1000 --json", scratch);
+  REQUIRE(alone.exit_code == 0);
+  // The range's reports, one per line, in frame order; the third is the single check of frame 24
+  // against 23, file names aside.
+  std::vector<std::string> reports;
+  std::istringstream lines(range.out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("{\"file\": ", 0) == 0) reports.push_back(line);
+  REQUIRE(reports.size() == 3);
+  const auto without_files = [](std::string text) {
+    for (size_t at = text.find("\"file\": \""); at != std::string::npos; at = text.find("\"file\": \"", at + 1))
+      text.erase(at + 9, text.find('"', at + 9) - (at + 9));
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    return text;
+  };
+  CHECK(without_files(reports[2]) == without_files(alone.out));
+  // The first frame of the range has nothing before it; the second is against the first.
+  CHECK(reports[0].find("\"previous\"") == std::string::npos);
+  CHECK(reports[1].find("\"previous\": {\"file\": \"" + (scratch / "v.0022.obj") + "\", \"frame\": 22") != std::string::npos);
+  CHECK(field(range.out, "order_flips", "pairs_in_both") > 100);
+  CHECK(range.out.find("\"frames_checked\": 3") != std::string::npos);
 }

@@ -9,6 +9,7 @@
 
 #include "io/feather_file.h"
 #include "io/groom_file.h"
+#include "io/scratch_dir.h"
 
 namespace fs = std::filesystem;
 using namespace plume;
@@ -84,6 +85,10 @@ TEST_CASE("every key of the feathers section reaches FeatherDesc", "[io][feather
   CHECK(f.key_feathers[0].groups == std::vector<std::string>{"scalp"});
   CHECK(f.key_feathers[0].radius == 0.2f);
   CHECK(f.key_feathers[0].stage == 0.9f);
+  CHECK(f.key_feathers[0].layer_given);
+  CHECK(f.key_feathers[0].layer == 2.0f);
+  CHECK_FALSE(f.key_feathers[1].layer_given);
+  CHECK(f.key_feathers[1].layer == 0.0f);
   CHECK(f.key_feathers[1].template_index == 1);
   CHECK(f.key_feathers[1].point == Eigen::Vector3f(0.5f, 0.0f, 0.5f));
   CHECK(f.follicles.count == 20);
@@ -104,6 +109,12 @@ TEST_CASE("every key of the feathers section reaches FeatherDesc", "[io][feather
   CHECK(f.detail.uv == FeatherDetail::Uv::barb);
   CHECK(f.lift);
   CHECK(f.clearance == 0.03f);
+  CHECK(f.layers);
+  CHECK(f.layer_offset == 0.01f);
+  CHECK(f.layer_map_path == (data_dir / "feathers" / "layer_map.txt").lexically_normal().string());
+  CHECK(f.layer_front == std::vector<std::string>{"face"});
+  CHECK(f.layer_rear == std::vector<std::string>{"scalp"});
+  CHECK(f.layer_rear_loc.line == 29);
   CHECK(groom.output.vanes_pattern.ends_with("out/vanes.####.obj"));
   // Feather stems are stiffer than hair by default.
   CHECK(groom.dynamics.stiffness.at(0.0f) == 10.0f);
@@ -146,6 +157,41 @@ TEST_CASE("bad templates give file:line:column errors naming the key", "[io][fea
   check_bad("feather_with_roots.groom.yaml", "5:8", "roots", "not allowed in a feather groom");
   check_bad("feather_too_many_barbs.groom.yaml", "9:24", "feathers.templates.contour.barbs.spacing",
             "expected at most 10000 barbs per vane over the rachis length 3, got more");
+}
+
+TEST_CASE("bad layer orders give file:line:column errors naming the key", "[io][feathers]") {
+  const std::string valid = (data_dir / "feathers" / "valid.groom.yaml").string();
+  std::string text;
+  {
+    std::ifstream in(valid);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // The valid groom's relative paths made absolute, so that an edited copy reads from a scratch folder.
+  for (const std::string name : {"../groom_file/", "../groom_file/", "templates.yaml", "layer_map.txt"}) {
+    const size_t at = text.find(name);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, name.size(), (data_dir / "feathers" / name).lexically_normal().string());
+  }
+  const size_t line = text.find("  layers: {enabled: true, offset: 0.01, map: ");
+  REQUIRE(line != std::string::npos);
+  const std::string layers = text.substr(line, text.find('\n', line) - line);
+  const test::ScratchDir scratch("bad_layer_orders");
+  const auto error_with = [&](const std::string &from, const std::string &to) {
+    std::string edited = text;
+    edited.replace(edited.find(from), from.size(), to);
+    const std::string path = scratch.file("edited.groom.yaml");
+    std::ofstream(path) << edited;
+    const std::string message = error_of(path);
+    return message.substr(message.find(".groom.yaml:") + 12);
+  };
+  CHECK(error_with(layers, "  layers: {enabled: true, front: [face, scalp], rear: [scalp]}") ==
+        "29:55: feathers.layers.rear: the face group \"scalp\" is also in feathers.layers.front (a tract is either "
+        "in front or at the rear)");
+  CHECK(error_with(layers, "  layers: {front: []}") == "29:19: feathers.layers.front: expected at least one face group, got a list");
+  CHECK(error_with(layers, "  layers: {map: missing.txt}").rfind("29:17: feathers.layers.map: expected an existing file, got \"missing.txt\"", 0) == 0);
+  CHECK(error_with("stage: 0.9, layer: 2}", "stage: 0.9, layer: 2e9}") ==
+        "22:76: feathers.key_feathers[0].layer: expected a number in [-1e+06, 1e+06], got \"2e9\"");
+  CHECK(error_with("stage: 0.9, layer: 2}", "stage: 0.9, layer: .nan}").rfind("22:76: feathers.key_feathers[0].layer: expected a number", 0) == 0);
 }
 
 TEST_CASE("a template file's errors name that file and its line", "[io][feathers]") {

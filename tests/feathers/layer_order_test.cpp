@@ -1,0 +1,199 @@
+// The layer order a groom gives (issue 28, section 1): key feathers' `layer`, `layers.map`, and
+// front and rear tracts order the bird's feathers whatever covers what at rest; coverage orders the
+// feathers of equal keys; coverings the keys reverse are reported, cycles broken only within equal
+// keys; the same keys everywhere give the order from coverage alone; unknown tracts are named.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "check/vanes.h"
+#include "feathers/coat.h"
+#include "groom/guides.h"
+#include "groom/mesh_query.h"
+#include "io/groom_file.h"
+#include "io/obj_mesh.h"
+#include "io/strand_file.h"
+
+using namespace plume;
+using namespace plume::feathers;
+
+namespace {
+
+const std::string kBird = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
+
+/// The bird's groom read from grooms/bird/, with layering on.
+struct Bird {
+  GroomDesc groom = io::read_groom_file(kBird + "bird.groom.yaml");
+  Mesh rest = io::read_obj_mesh(kBird + "bird.obj");
+  Guides stems;
+  Bird() {
+    groom.feathers.layers = true;
+    stems = bind_guides(MeshQuery(rest), io::read_strands(kBird + "stems.obj"), "stems.obj");
+  }
+  /// A coat of `count` feathers bound with the groom's feathers as `edit` leaves them.
+  std::unique_ptr<Coat> bind(int64_t count, const std::function<void(FeatherDesc &)> &edit,
+                             std::span<const float> layer_map = {}) const {
+    FeatherDesc desc = groom.feathers;
+    edit(desc);
+    return std::make_unique<Coat>(rest, stems, desc, scatter_follicles(rest, desc.follicles, {}, count), layer_map);
+  }
+  /// The face group of feather i's follicle.
+  std::string tract(const Coat &coat, size_t i) const {
+    return rest.group_names[size_t(rest.triangle_groups[size_t(coat.follicles()[i].triangle)])];
+  }
+};
+
+const auto kUnchanged = [](FeatherDesc &) {};
+
+/// Checks that `order` puts every feather with a smaller `key` below every feather with a larger
+/// one, and that every covering it broke or overrode is one the keys allow.
+template <class Key>
+void check_keys_kept(const LayerOrder &order, Key key) {
+  const size_t n = order.rank.size();
+  // Along the order from the bottom, the keys never fall.
+  size_t falls = 0;
+  for (size_t r = 1; r < n; ++r)
+    if (key(size_t(order.bottom_up[r])) < key(size_t(order.bottom_up[r - 1]))) ++falls;
+  CHECK(falls == 0);
+  for (const auto &[covering, covered] : order.overridden) {
+    CHECK(key(size_t(covering)) < key(size_t(covered)));
+    CHECK(order.rank[size_t(covering)] < order.rank[size_t(covered)]);
+  }
+  // A cycle is broken only among feathers of equal keys.
+  for (const auto &[covering, covered] : order.broken) CHECK_FALSE(key(size_t(covering)) < key(size_t(covered)));
+}
+
+}  // namespace
+
+TEST_CASE("key feathers' layers order the bird's tracts, against what covers what at rest", "[feathers]") {
+  const Bird bird;
+  // Flight feathers above the coverts that cover their bases at rest, the down above everything.
+  const auto edit = [](FeatherDesc &d) {
+    for (KeyFeather &k : d.key_feathers) {
+      k.layer_given = true;
+      k.layer = k.template_name == "down" ? 9.0f : k.template_name == "flight" ? 5.0f : k.template_name == "covert" ? 4.0f : 1.0f;
+    }
+  };
+  const std::unique_ptr<Coat> coat = bird.bind(700, edit);
+  const std::unique_ptr<Coat> plain = bird.bind(700, kUnchanged);
+  const LayerOrder &order = coat->layer_order();
+  REQUIRE(order.bottom_up.size() == coat->size());
+  FeatherDesc desc = bird.groom.feathers;
+  edit(desc);
+  const auto key = [&](size_t i) {
+    const std::span<const float> w = coat->key_weights(i);
+    return desc.key_feathers[size_t(std::max_element(w.begin(), w.end()) - w.begin())].layer;
+  };
+  check_keys_kept(order, key);
+  // The keys reverse coverings the plain order keeps (down lies under the contour feathers at rest).
+  CHECK(order.overridden.size() > 20);
+  CHECK(plain->layer_order().overridden.empty());
+  CHECK(order.coverings == plain->layer_order().coverings);
+  // Within one key, coverage still orders: the contour feathers' relative order is the plain one
+  // wherever no cycle was broken differently.
+  std::vector<int32_t> contour_here, contour_plain;
+  for (const int32_t f : order.bottom_up)
+    if (key(size_t(f)) == 1.0f) contour_here.push_back(f);
+  for (const int32_t f : plain->layer_order().bottom_up)
+    if (key(size_t(f)) == 1.0f) contour_plain.push_back(f);
+  REQUIRE(contour_here.size() == contour_plain.size());
+  REQUIRE(contour_here.size() > 100);
+  size_t same = 0;
+  for (size_t i = 0; i < contour_here.size(); ++i) same += contour_here[i] == contour_plain[i] ? 1 : 0;
+  INFO(same << " of " << contour_here.size() << " contour feathers at the same place among them");
+  CHECK(same > contour_here.size() / 2);
+}
+
+TEST_CASE("the same layer on every key feather gives the order from coverage alone", "[feathers]") {
+  const Bird bird;
+  const std::unique_ptr<Coat> given = bird.bind(600, [](FeatherDesc &d) {
+    for (KeyFeather &k : d.key_feathers) {
+      k.layer_given = true;
+      k.layer = 3.0f;
+    }
+  });
+  const std::unique_ptr<Coat> plain = bird.bind(600, kUnchanged);
+  CHECK(given->layer_order().bottom_up == plain->layer_order().bottom_up);
+  CHECK(given->layer_order().broken == plain->layer_order().broken);
+  CHECK(given->layer_order().overridden.empty());
+}
+
+TEST_CASE("front and rear tracts lie above and below every other feather", "[feathers]") {
+  const Bird bird;
+  const std::unique_ptr<Coat> coat = bird.bind(700, [](FeatherDesc &d) {
+    d.layer_front = {"belly"};
+    d.layer_rear = {"left_wing", "right_wing"};
+  });
+  const auto tier = [&](size_t i) {
+    const std::string t = bird.tract(*coat, i);
+    return t == "belly" ? 1 : (t == "left_wing" || t == "right_wing") ? -1 : 0;
+  };
+  size_t front = 0, rear = 0;
+  for (size_t i = 0; i < coat->size(); ++i) {
+    if (tier(i) > 0) ++front;
+    if (tier(i) < 0) ++rear;
+  }
+  REQUIRE(front > 20);
+  REQUIRE(rear > 20);
+  check_keys_kept(coat->layer_order(), tier);
+  CHECK_FALSE(coat->layer_order().overridden.empty());
+}
+
+TEST_CASE("a layer map orders feathers by its value at their follicles", "[feathers]") {
+  const Bird bird;
+  // Higher on the body lies above: the map is each vertex's height, from 0 to 1.
+  float lo = INFINITY, hi = -INFINITY;
+  for (const Eigen::Vector3f &p : bird.rest.positions) {
+    lo = std::min(lo, p.y());
+    hi = std::max(hi, p.y());
+  }
+  std::vector<float> map;
+  for (const Eigen::Vector3f &p : bird.rest.positions) map.push_back((p.y() - lo) / (hi - lo));
+  const std::unique_ptr<Coat> coat = bird.bind(700, kUnchanged, map);
+  const auto height = [&](size_t i) { return surface_position(bird.rest, coat->follicles()[i]).y(); };
+  // The map is linear in height over each triangle, so its value at a follicle is the follicle's
+  // height, rescaled: feathers go up the body from the bottom of the order, within rounding.
+  const LayerOrder &order = coat->layer_order();
+  size_t falls = 0;
+  for (size_t r = 1; r < order.bottom_up.size(); ++r)
+    if (height(size_t(order.bottom_up[r])) < height(size_t(order.bottom_up[r - 1])) - 1e-4f * (hi - lo)) ++falls;
+  CHECK(falls == 0);
+  CHECK(order.broken.empty());  // no two follicles at one height: nothing left for coverage to order
+  CHECK_FALSE(order.overridden.empty());
+}
+
+TEST_CASE("an unknown front or rear tract is named with the emitter's groups", "[feathers]") {
+  const Bird bird;
+  for (const bool front : {true, false}) {
+    try {
+      bird.bind(50, [&](FeatherDesc &d) { (front ? d.layer_front : d.layer_rear) = {"back", "wingz"}; });
+      FAIL("an unknown tract was accepted");
+    } catch (const InputError &e) {
+      const std::string message = e.what();
+      INFO(message);
+      CHECK(message.find(front ? "feathers.layers.front" : "feathers.layers.rear") != std::string::npos);
+      CHECK(message.find("\"wingz\"") != std::string::npos);
+      CHECK(message.find("left_wing") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("the layering pass keeps vanes apart in the groom's own order, reversed tracts included", "[feathers]") {
+  const Bird bird;
+  // Flight feathers in front of the coverts that cover their bases at rest, the belly behind all.
+  const std::unique_ptr<Coat> coat = bird.bind(500, [](FeatherDesc &d) {
+    d.layer_front = {"left_flight", "right_flight"};
+    d.layer_rear = {"belly"};
+  });
+  REQUIRE_FALSE(coat->layer_order().overridden.empty());
+  const MeshQuery query(bird.rest);
+  CoatFrame frame;
+  coat->grow(bird.rest, query, bird.stems.strands, frame);
+  const check::VaneCheckReport report =
+      check::check_vanes(frame.vanes.positions, frame.vanes.triangles, frame.vanes.triangle_feathers);
+  CHECK(report.feather_pairs == 0);
+  CHECK(frame.layering.lifted > 0);
+}

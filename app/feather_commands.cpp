@@ -39,6 +39,15 @@ PreviewStyle feather_style(int size) {
   return style;
 }
 
+/// The first `most` coverings the layer order broke in cycles, as (covering, covered) feather ids.
+std::vector<std::pair<uint64_t, uint64_t>> broken_by_id(const feathers::LayerOrder &order,
+                                                        const std::vector<uint64_t> &ids, size_t most = 8) {
+  std::vector<std::pair<uint64_t, uint64_t>> named;
+  for (size_t k = 0; k < std::min(most, order.broken.size()); ++k)
+    named.emplace_back(ids[size_t(order.broken[k].first)], ids[size_t(order.broken[k].second)]);
+  return named;
+}
+
 /// Feather id pairs as "a/b c/d".
 std::string text_pairs(const std::vector<std::pair<uint64_t, uint64_t>> &pairs) {
   std::string text;
@@ -101,10 +110,7 @@ void run_feather_regrow(const GroomDesc &groom, const FeatherRegrowArgs &args) {
       camera = feather_camera(pipeline->base().rest_mesh(), pipeline->rest_frame().curves.curves);
     const feathers::LayerOrder &order = pipeline->coat().layer_order();
     if (!order.broken.empty()) {
-      const std::vector<uint64_t> &ids = pipeline->coat().ids();
-      std::vector<std::pair<uint64_t, uint64_t>> named;
-      for (size_t k = 0; k < std::min<size_t>(8, order.broken.size()); ++k)
-        named.emplace_back(ids[size_t(order.broken[k].first)], ids[size_t(order.broken[k].second)]);
+      const std::vector<std::pair<uint64_t, uint64_t>> named = broken_by_id(order, pipeline->coat().ids());
       std::fprintf(stderr, "plume: warning: the layer order at rest breaks %lld coverings in cycles (the feather "
                    "covering the fewest goes lower; covering/covered feather ids: %s%s)\n",
                    (long long)order.broken.size(), text_pairs(named).c_str(), order.broken.size() > 8 ? " ..." : "");
@@ -445,9 +451,7 @@ int run_feather_check(const FeatherCheckArgs &args) {
     const CoatView view = view_coat(*groom, args.groom, file, args.path);
     broken_at_rest = int64_t(view.order.broken.size());
     overridden_at_rest = int64_t(view.order.overridden.size());
-    const std::vector<uint64_t> &ids = view.pipeline->coat().ids();
-    for (size_t k = 0; k < std::min<size_t>(8, view.order.broken.size()); ++k)
-      broken_examples.emplace_back(ids[size_t(view.order.broken[k].first)], ids[size_t(view.order.broken[k].second)]);
+    broken_examples = broken_by_id(view.order, view.pipeline->coat().ids());
     const check::VaneOverlaps overlaps =
         check::vane_overlaps(file.mesh.positions, file.mesh.triangles, file.triangle_ids, skin, query);
     samples = overlaps.samples;

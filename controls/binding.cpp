@@ -113,11 +113,7 @@ ControlBinding bind_controls(const ControlSettings &settings, const std::vector<
       if (w > 0.0f && !group_masks[d].empty())
         w = group_masks[d][size_t(rest_mesh.triangle_groups[size_t(root.triangle)])] ? w : 0.0f;
       if (w > 0.0f && !vertex_maps.empty() && !vertex_maps[d].empty()) {
-        const Eigen::Vector3i &t = rest_mesh.triangles[size_t(root.triangle)];
-        const std::vector<float> &map = vertex_maps[d];
-        w *= std::clamp(
-            root.bary[0] * map[size_t(t[0])] + root.bary[1] * map[size_t(t[1])] + root.bary[2] * map[size_t(t[2])],
-            0.0f, 1.0f);
+        w *= std::clamp(surface_value(rest_mesh, vertex_maps[d], root), 0.0f, 1.0f);
       }
       weight[c] = w;
     }

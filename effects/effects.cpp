@@ -391,11 +391,7 @@ EffectStack::EffectStack(const std::vector<EffectDesc> &effects, const Mesh &res
     }
     if (!desc.vertex_map_path.empty()) {
       const std::vector<float> map = read_vertex_map(desc.vertex_map_path, rest_mesh.vertex_count(), desc.loc);
-      for (size_t i = 0; i < n; ++i) {
-        const SurfacePoint &sp = root_points_[i];
-        const Eigen::Vector3i &tri = rest_mesh.triangles[sp.triangle];
-        strength[i] *= sp.bary[0] * map[tri[0]] + sp.bary[1] * map[tri[1]] + sp.bary[2] * map[tri[2]];
-      }
+      for (size_t i = 0; i < n; ++i) strength[i] *= surface_value(rest_mesh, map, root_points_[i]);
     }
 
     switch (desc.type) {

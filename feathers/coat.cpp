@@ -394,10 +394,7 @@ Follicles scatter_follicles(const Mesh &rest_mesh, const FollicleSettings &setti
   follicles.ids.reserve(roots.size());
   for (size_t i = 0; i < roots.size(); ++i) {
     if (!vertex_map.empty()) {
-      const SurfacePoint &sp = roots.points[i];
-      const Eigen::Vector3i &t = rest_mesh.triangles[size_t(sp.triangle)];
-      const float value = sp.bary[0] * vertex_map[size_t(t[0])] + sp.bary[1] * vertex_map[size_t(t[1])] +
-                          sp.bary[2] * vertex_map[size_t(t[2])];
+      const float value = surface_value(rest_mesh, vertex_map, roots.points[i]);
       if (!(value > hashed_unit(settings.seed, roots.ids[i], kThinning))) continue;
     }
     follicles.points.push_back(roots.points[i]);
@@ -519,7 +516,7 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
   for (size_t i = 0; i < n; ++i) {
     const std::span<float> w(key_weights_.data() + i * key_count_, key_count_);
     field.weights(points_[i], w);
-    templates_[i] = desc.key_feathers[size_t(std::max_element(w.begin(), w.end()) - w.begin())].template_index;
+    templates_[i] = desc.key_feathers[heaviest_key(i)].template_index;
     FeatherTemplate t = blend_templates(key_templates, w);
     float stage = 0.0f;
     for (size_t k = 0; k < key_count_; ++k) stage += w[k] * desc.key_feathers[k].stage;
@@ -639,6 +636,11 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
   }
 }
 
+size_t Coat::heaviest_key(size_t feather) const {
+  const std::span<const float> w = key_weights(feather);
+  return size_t(std::max_element(w.begin(), w.end()) - w.begin());
+}
+
 std::vector<LayerKey> Coat::order_keys(const Mesh &rest_mesh, const FeatherDesc &desc,
                                        std::span<const float> layer_map) const {
   const bool by_key = std::any_of(desc.key_feathers.begin(), desc.key_feathers.end(),
@@ -657,14 +659,9 @@ std::vector<LayerKey> Coat::order_keys(const Mesh &rest_mesh, const FeatherDesc 
     LayerKey &key = keys[i];
     if (!front.empty() && front[face]) key.tier = 1;
     if (!rear.empty() && rear[face]) key.tier = -1;
-    // The heaviest key feather's layer (the one whose template the feather takes; ties: the first).
-    const std::span<const float> w = key_weights(i);
-    key.layer = desc.key_feathers[size_t(std::max_element(w.begin(), w.end()) - w.begin())].layer;
-    if (!layer_map.empty()) {
-      const Eigen::Vector3i t = rest_mesh.triangles[face];
-      key.map = p.bary[0] * layer_map[size_t(t[0])] + p.bary[1] * layer_map[size_t(t[1])] +
-                p.bary[2] * layer_map[size_t(t[2])];
-    }
+    // The heaviest key feather's layer (the one whose template the feather takes).
+    key.layer = desc.key_feathers[heaviest_key(i)].layer;
+    if (!layer_map.empty()) key.map = surface_value(rest_mesh, layer_map, p);
   }
   return keys;
 }
@@ -731,9 +728,13 @@ Eigen::Vector3f Coat::blend_stems(const StemFrame &frames, size_t i, float z) co
 
 void Coat::grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
                 const skin::SkinGrid *skin_grid) const {
+  // One grid of the posed skin serves the skin pass and the layering pass.
+  std::optional<skin::SkinGrid> own_grid;
+  const bool layered = layers_ && !order_.bottom_up.empty();
+  if (!skin_grid && (lift_ || layered)) skin_grid = &own_grid.emplace(posed, query);
   grow_feathers(posed, query, stems, r_frame, skin_grid);
   r_frame.layering = {};
-  if (layers_ && !order_.bottom_up.empty()) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame);
+  if (layered) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame, skin_grid);
 }
 
 void Coat::grow_feathers(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,

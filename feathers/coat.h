@@ -139,6 +139,8 @@ class Coat {
     Eigen::Quaternionf rest_rotation;  // Q_follicle(rest)^T M Q_guide(rest)
   };
   void bind_stems(const Mesh &rest_mesh, const Guides &stems);
+  /// The key feather feather `feather` weighs most (the first of equal weights).
+  size_t heaviest_key(size_t feather) const;
   /// Feather i's stems' directions at arc length z, blended by their weights and carried into the
   /// follicle's skin frame (not unit).
   Eigen::Vector3f blend_stems(const StemFrame &frames, size_t i, float z) const;

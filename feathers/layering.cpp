@@ -196,15 +196,21 @@ double ray_crossing(const Vec &origin, const Vec &direction, const Triangle &t) 
   return e2.dot(q) / det;
 }
 
+/// The feathers' indices sorted by their roots' x (then index), for the sweeps below.
+std::vector<int32_t> order_by_x(const std::vector<Vec> &roots) {
+  std::vector<int32_t> by_x(roots.size());
+  for (size_t i = 0; i < roots.size(); ++i) by_x[i] = int32_t(i);
+  std::sort(by_x.begin(), by_x.end(), [&](int32_t a, int32_t b) {
+    return roots[size_t(a)].x() < roots[size_t(b)].x() || (roots[size_t(a)].x() == roots[size_t(b)].x() && a < b);
+  });
+  return by_x;
+}
+
 /// Pairs of feathers whose spheres (root, extent) meet, found by a sweep along x: per feather, the
 /// others it may touch (sorted).
 std::vector<std::vector<int32_t>> sphere_neighbours(const std::vector<Vec> &roots, const std::vector<double> &extents) {
   const size_t n = roots.size();
-  std::vector<int32_t> by_x(n);
-  for (size_t i = 0; i < n; ++i) by_x[i] = int32_t(i);
-  std::sort(by_x.begin(), by_x.end(), [&](int32_t a, int32_t b) {
-    return roots[size_t(a)].x() < roots[size_t(b)].x() || (roots[size_t(a)].x() == roots[size_t(b)].x() && a < b);
-  });
+  const std::vector<int32_t> by_x = order_by_x(roots);
   const double largest = n ? *std::max_element(extents.begin(), extents.end()) : 0.0;
   std::vector<std::vector<int32_t>> out(n);
   for (size_t a = 0; a < n; ++a) {
@@ -228,11 +234,7 @@ std::vector<std::vector<int32_t>> sphere_neighbours(const std::vector<Vec> &root
 std::vector<std::vector<int32_t>> lower_neighbours(const std::vector<Vec> &roots, const std::vector<double> &extents,
                                                    const std::vector<int32_t> &rank, double offset) {
   const size_t n = roots.size();
-  std::vector<int32_t> by_x(n);
-  for (size_t i = 0; i < n; ++i) by_x[i] = int32_t(i);
-  std::sort(by_x.begin(), by_x.end(), [&](int32_t a, int32_t b) {
-    return roots[size_t(a)].x() < roots[size_t(b)].x() || (roots[size_t(a)].x() == roots[size_t(b)].x() && a < b);
-  });
+  const std::vector<int32_t> by_x = order_by_x(roots);
   const double largest = n ? *std::max_element(extents.begin(), extents.end()) : 0.0;
   const auto reach = [&](size_t high, size_t low) {
     const double r = std::max(extents[high] + 2.0 * extents[low], (1.0 + offset) * extents[high] + extents[low]);
@@ -354,7 +356,7 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
 }
 
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
-                          const MeshQuery *skin, CoatFrame &r_frame) {
+                          const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid) {
   const size_t n = ranges.size();
   LayeringStats stats;
   if (n == 0) return stats;
@@ -411,8 +413,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   // Each feather's vanes once it is placed: what the feathers above it keep clear of.
   std::vector<FeatherVanes> placed(n);
   // The skin's closest points, searched near the last one found for the same vertex.
-  std::optional<skin::SkinGrid> grid;
-  if (skin) grid.emplace(skin->mesh(), *skin);
+  std::optional<skin::SkinGrid> own_grid;
+  const skin::SkinGrid *grid = skin_grid;
+  if (skin && !grid) grid = &own_grid.emplace(skin->mesh(), *skin);
   int64_t lifted = 0, unresolved = 0, left_under = 0;
   std::vector<char> unordered(n, 0);
   float largest = 0.0f;

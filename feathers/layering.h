@@ -14,6 +14,10 @@
 
 #include "groom/mesh_query.h"
 
+namespace plume::skin {
+class SkinGrid;  // skin/skin_grid.h
+}
+
 namespace plume::feathers {
 
 struct CoatFrame;  // feathers/coat.h
@@ -96,7 +100,8 @@ struct LayeringStats {
 /// touch or lie under is placed, and the result does not depend on the thread count or the
 /// schedule.
 /// `skin` (may be null) is the posed skin: a turn that takes a vane vertex below it is refused too.
+/// `skin_grid` (may be null; then one is built) is the grid of that skin the growth used.
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
-                          const MeshQuery *skin, CoatFrame &r_frame);
+                          const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid = nullptr);
 
 }  // namespace plume::feathers

@@ -127,6 +127,12 @@ Eigen::Vector3f surface_normal(const Mesh &mesh, const SurfacePoint &sp) {
   return face.squaredNorm() > 0.0f ? face : Eigen::Vector3f(0.0f, 0.0f, 1.0f);
 }
 
+float surface_value(const Mesh &mesh, std::span<const float> per_vertex, const SurfacePoint &sp) {
+  const Eigen::Vector3i &t = mesh.triangles[size_t(sp.triangle)];
+  return sp.bary[0] * per_vertex[size_t(t[0])] + sp.bary[1] * per_vertex[size_t(t[1])] +
+         sp.bary[2] * per_vertex[size_t(t[2])];
+}
+
 Eigen::Vector2f surface_uv(const Mesh &mesh, const SurfacePoint &sp) {
   if (!mesh.has_uvs()) return Eigen::Vector2f::Zero();
   const Eigen::Vector3i &t = mesh.triangle_uvs[sp.triangle];

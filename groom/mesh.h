@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,8 @@ Eigen::Vector3f surface_position(const Mesh &mesh, const SurfacePoint &sp);
 Eigen::Vector3f surface_normal(const Mesh &mesh, const SurfacePoint &sp);
 /// (0,0) when the mesh has no UVs.
 Eigen::Vector2f surface_uv(const Mesh &mesh, const SurfacePoint &sp);
+/// A value per vertex (`per_vertex`, one per mesh vertex: a vertex map) interpolated at `sp`.
+float surface_value(const Mesh &mesh, std::span<const float> per_vertex, const SurfacePoint &sp);
 
 /// An orthonormal frame at a surface point: columns of `basis` are (tangent, bitangent, normal).
 /// The tangent follows the UV u direction when the mesh has UVs, else the triangle's first edge,

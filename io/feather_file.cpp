@@ -467,6 +467,26 @@ std::string describe_feathers(const FeatherDesc &feathers) {
   const FeatherDetail &e = feathers.detail;
   out << "feather detail: rachis " << e.rachis_points << " points, barbs " << e.barb_points << " points, vanes "
       << e.vane_rows << " x " << e.vane_columns << ", stems from " << feathers.guides_per_feather << " guides\n";
+  out << "layers: ";
+  if (!feathers.layers) {
+    out << "off\n";
+    return out.str();
+  }
+  out << "on, offset " << format_number(feathers.layer_offset) << ", order: ";
+  std::string given;
+  const auto tracts = [&](const char *name, const std::vector<std::string> &groups) {
+    if (groups.empty()) return;
+    given += std::string(given.empty() ? "" : "; ") + name;
+    for (const std::string &g : groups) given += " " + g;
+  };
+  tracts("front", feathers.layer_front);
+  tracts("rear", feathers.layer_rear);
+  if (std::any_of(feathers.key_feathers.begin(), feathers.key_feathers.end(),
+                  [](const KeyFeather &k) { return k.layer_given; }))
+    given += std::string(given.empty() ? "" : "; ") + "key feathers' layers";
+  if (!feathers.layer_map_path.empty()) given += std::string(given.empty() ? "" : "; ") + "map " + feathers.layer_map_path;
+  if (!given.empty()) out << "the groom's (" << given << "), then ";
+  out << "coverage at rest\n";
   return out.str();
 }
 

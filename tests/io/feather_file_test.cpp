@@ -119,6 +119,9 @@ TEST_CASE("every key of the feathers section reaches FeatherDesc", "[io][feather
   // Feather stems are stiffer than hair by default.
   CHECK(groom.dynamics.stiffness.at(0.0f) == 10.0f);
   CHECK(io::describe_groom(groom).find("feathers: 2 templates (contour, down)") != std::string::npos);
+  CHECK(io::describe_groom(groom).find("layers: on, offset 0.01, order: the groom's (front face; rear scalp; key "
+                                       "feathers' layers; map " +
+                                       f.layer_map_path + "), then coverage at rest\n") != std::string::npos);
 }
 
 TEST_CASE("the feathers example of docs/groom-format.md is a valid groom", "[io][feathers]") {

@@ -97,7 +97,7 @@ int main() {
     field_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%-44s %10.1f ms (once)\n", "parting field, 1 partial line", field_seconds * 1e3);
     double fur_rate = 0.0;
-    std::printf("%-44s %10s %14s %8s %22s\n", "growth, 100k x 32 points (median of 5)", "ms", "points/s", "vs fur",
+    std::printf("%-44s %10s %14s %8s %22s\n", "growth, 100k x 32 points (median of 3)", "ms", "points/s", "vs fur",
                 "points/CPU-s x cores");
     for (const auto method : {InterpolationSettings::Method::fur, InterpolationSettings::Method::streamline}) {
       InterpolationSettings settings;
@@ -107,7 +107,7 @@ int main() {
       StrandSet grown;
       double cpu = 0.0;
       const double seconds =
-          time_median(5, [&] { interp::grow(binding, mesh, query, roots, guides.strands, options, grown); }, &cpu);
+          time_median(3, [&] { interp::grow(binding, mesh, query, roots, guides.strands, options, grown); }, &cpu);
       const double rate = double(grown.point_count()) / seconds;
       if (method == InterpolationSettings::Method::fur) fur_rate = rate;
       std::printf("  %-42s %10.1f %14.3e %7.2fx %22.3e\n",

@@ -1,9 +1,11 @@
 // Regrowth throughput (strand points per second) on the Sintel groom: 10k and 100k strands x 32
-// points from her 228 guides, fur and streamline-ratio; median of repeated runs.
+// points from her 228 guides, fur and streamline (the strands as integral curves of the guides'
+// field); median of repeated runs (argument 1: how many, default 3).
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <ctime>
 #include <cstdio>
 #include <filesystem>
@@ -33,7 +35,8 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char **argv) {
+  const int runs = argc > 1 ? std::max(std::atoi(argv[1]), 1) : 3;
   const Mesh mesh = io::read_obj_mesh(data_path("sintel.obj"));
   const MeshQuery query(mesh);
   const Guides guides = bind_guides(query, io::read_strands(data_path("sintel_guides.hair")), "sintel_guides.hair");
@@ -42,8 +45,8 @@ int main() {
   const std::vector<bool> scalp = triangles_near(mesh, guide_roots, 2.0);
 
   std::printf("Regrowth from the Sintel guides (%zu guides), 32 points per strand\n", guides.size());
-  std::printf("cores (OpenMP threads): %d, hardware threads: %u, median of 7 runs\n\n", omp_get_max_threads(),
-              std::thread::hardware_concurrency());
+  std::printf("cores (OpenMP threads): %d, hardware threads: %u, median of %d runs\n\n", omp_get_max_threads(),
+              std::thread::hardware_concurrency(), runs);
   std::printf("%-10s %-11s %12s %16s %10s %18s\n", "strands", "method", "median ms", "points/s", "vs fur",
               "points/CPU-s x cores");
   for (const int64_t count : {int64_t(10000), int64_t(100000)}) {
@@ -56,7 +59,7 @@ int main() {
       interp::GrowOptions options;
       StrandSet strands;
       std::vector<double> times, cpu_times;
-      for (int run = 0; run < 7; ++run) {
+      for (int run = 0; run < runs; ++run) {
         const auto start = std::chrono::steady_clock::now();
         const std::clock_t cpu_start = std::clock();
         interp::grow(binding, mesh, query, roots, guides.strands, options, strands);

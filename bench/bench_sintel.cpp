@@ -3,7 +3,7 @@
 // threads; the median of repeated runs of grow() alone (binding is done once, as a groom does),
 // in points per second. bench/vs_blender.sh runs it beside Blender's interpolated children
 // (bench/blender_children.py) in one go and prints the ratio.
-// Usage: bench_sintel [STRANDS [RUNS]]   (default 100000 strands, 7 runs)
+// Usage: bench_sintel [STRANDS [RUNS [METHOD]]]   (default 100000 strands, 7 runs, every method)
 // The last lines are machine-readable, one per method:
 //   PLUME_GROWTH method=streamline strands=100000 points=32 threads=2 median_s=... points_per_s=...
 #include <omp.h>
@@ -38,8 +38,9 @@ double median(std::vector<double> v) {
 int main(int argc, char **argv) {
   const int64_t count = argc > 1 ? std::atoll(argv[1]) : 100000;
   const int runs = argc > 2 ? std::atoi(argv[2]) : 7;
+  const std::string only = argc > 3 ? argv[3] : "";
   if (count < 1 || count > 10000000 || runs < 1 || runs > 1000) {
-    std::fprintf(stderr, "usage: bench_sintel [STRANDS in 1..1e7 [RUNS in 1..1000]]\n");
+    std::fprintf(stderr, "usage: bench_sintel [STRANDS in 1..1e7 [RUNS in 1..1000 [streamline|fur|linear]]]\n");
     return 2;
   }
   constexpr int kThreads = 2, kPoints = 32;
@@ -61,6 +62,7 @@ int main(int argc, char **argv) {
   std::vector<std::string> lines;
   for (const auto &[method, name] : {std::pair{Method::streamline, "streamline"}, std::pair{Method::fur, "fur"},
                                      std::pair{Method::linear, "linear"}}) {
+    if (!only.empty() && only != name) continue;
     InterpolationSettings settings;
     settings.method = method;
     const interp::Binding binding = interp::bind(mesh, guides, roots, settings);
@@ -69,6 +71,8 @@ int main(int argc, char **argv) {
     StrandSet strands;
     interp::grow(binding, mesh, query, roots, guides.strands, options, strands);  // warm-up: allocations
     std::vector<double> times, cpu_times;
+    interp::GrowStats stats;
+    options.r_stats = &stats;
     for (int run = 0; run < runs; ++run) {
       const auto start = std::chrono::steady_clock::now();
       const std::clock_t cpu_start = std::clock();
@@ -86,6 +90,8 @@ int main(int argc, char **argv) {
     std::snprintf(line, sizeof line, "PLUME_GROWTH method=%s strands=%zu points=%d threads=%d median_s=%.6f points_per_s=%.4e",
                   name, strands.strand_count(), kPoints, kThreads, seconds, rate);
     lines.push_back(line);
+    lines.push_back(std::string("  ") + name + ": " + std::to_string(double(stats.steps) / double(strands.strand_count())) +
+                    " steps per strand, " + stats.summary());
   }
   std::printf("\n");
   for (const std::string &line : lines) std::printf("%s\n", line.c_str());

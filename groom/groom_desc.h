@@ -72,7 +72,6 @@ struct InterpolationSettings {
   /// Scene units kept between strands and the skin; negative (the default): default_margin_fraction
   /// of the rest guides' median segment length, so that the groom's scale does not matter.
   float skin_margin = -1.0f;
-  int lookahead_segments = 3;  // streamline: how far ahead on a guide the closest point may move per step
   FileLoc loc;
 };
 

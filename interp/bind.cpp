@@ -106,16 +106,37 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
   binding.k = k;
   binding.settings = settings;
   binding.guide_roots = guides.roots;
-  if (settings.skin_margin >= 0.0f) {
-    binding.skin_margin = settings.skin_margin;
-  } else {  // automatic: scaled to the guides (to the mesh when no guide segment has a length)
-    const float unit = float(median_segment_length(guides.strands));
-    binding.skin_margin = default_margin_fraction * (unit > 0.0f ? unit : std::max(1e-3f * (hi - lo).norm(), 1e-30f));
+  binding.partings = use_partings ? partings : nullptr;
+  binding.zone_count = zone_count;
+  binding.guide_zones.assign(guide_count, 0);
+  binding.root_zones.assign(roots.size(), 0);
+  if (use_partings) {
+    for (size_t g = 0; g < guide_count; ++g) binding.guide_zones[g] = int32_t(partings->guide_zone(g));
+    for (size_t r = 0; r < roots.size(); ++r) binding.root_zones[r] = int32_t(partings->zone_of(roots.points[r]));
   }
+  // The groom's length unit: the median rest guide segment (segments of no length left out), from
+  // which every default length follows.
+  std::vector<float> segment_lengths;
+  for (size_t g = 0; g < guide_count; ++g) {
+    const std::span<const Eigen::Vector3f> points = guides.strands.points(g);
+    for (size_t j = 0; j + 1 < points.size(); ++j) {
+      const float length = (points[j + 1] - points[j]).norm();
+      if (length > 0.0f) segment_lengths.push_back(length);
+    }
+  }
+  if (segment_lengths.empty()) {
+    binding.length_unit = std::max(1e-3f * (hi - lo).norm(), 1e-12f);  // every guide of no length
+  } else {
+    std::nth_element(segment_lengths.begin(), segment_lengths.begin() + ptrdiff_t(segment_lengths.size() / 2),
+                     segment_lengths.end());
+    binding.length_unit = segment_lengths[segment_lengths.size() / 2];
+  }
+  binding.skin_margin = settings.skin_margin >= 0.0f ? settings.skin_margin : default_margin_fraction * binding.length_unit;
+  binding.step = step_fraction * binding.length_unit;
+  binding.tolerance = tolerance_fraction * binding.length_unit;
   const size_t root_count = roots.size();
   binding.guide_ids.assign(root_count * size_t(k), -1);
   binding.weights.assign(root_count * size_t(k), 0.0f);
-  binding.influence.assign(root_count * size_t(k), 0.0f);
   binding.rest_rotations.assign(root_count * size_t(k), Eigen::Quaternionf::Identity());
   binding.lengths.assign(root_count, 0.0f);
 
@@ -192,7 +213,6 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
       if (any_hit) {
         for (size_t s = 0; s < used; ++s) {
           binding.weights[size_t(base) + s] = candidates[s].factor;
-          binding.influence[size_t(base) + s] = candidates[s].factor;
           total += candidates[s].factor;
         }
       } else {
@@ -204,7 +224,6 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
         for (size_t s = 0; s < used; ++s) {
           const float raw = std::max(candidates[s].score - cutoff, 0.0f);
           binding.weights[size_t(base) + s] = raw;
-          binding.influence[size_t(base) + s] = candidates[s].factor * (raw / candidates[s].score);
           total += raw;
         }
       }

@@ -373,7 +373,6 @@ void GroomReader::read_interpolation(YamlMap &root, GroomDesc &groom) {
   s.radius = at_least_double(interp, "radius", s.radius, 0.0);
   s.falloff = above(interp, "falloff", s.falloff, 0.0f, max_falloff);
   if (interp.has("skin_margin")) s.skin_margin = at_least(interp, "skin_margin", 0.0f, 0.0f);
-  s.lookahead_segments = int(interp.integer("lookahead", s.lookahead_segments, 1, max_points_per_strand - 1));
   interp.finish();
 }
 

@@ -675,7 +675,8 @@ TEST_CASE("on strands combed down along the skin, the skin pass's proofs change 
   const EffectStack stack(full_stack(1.0f), mesh, roots, guides, nearest);
   const SkinPassComparison pass =
       compare_skin_pass(stack, query, guides.strands, binding.skin_margin, grown, clearance, 2.0f);
-  CHECK(pass.near_skin > 3000);  // 6756 of 93000 points
+  INFO("points within twice the margin: " << pass.near_skin);
+  CHECK(pass.near_skin > 500);  // 725 of 93000 points (the margin a tenth of the guides' segment)
   CHECK(pass.largest_difference <= 1e-5f);
 }
 

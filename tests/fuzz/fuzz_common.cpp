@@ -117,7 +117,7 @@ void check_groom(const GroomDesc &groom) {
           "roots");
   const InterpolationSettings &interp = groom.interpolation;
   require(interp.k >= 1 && interp.k <= max_guides_per_root && finite(interp.radius) && finite(interp.falloff) &&
-              finite(interp.skin_margin) && (interp.skin_margin >= 0.0f || interp.skin_margin == -1.0f) && interp.lookahead_segments >= 1,
+              finite(interp.skin_margin) && (interp.skin_margin >= 0.0f || interp.skin_margin == -1.0f),
           "interpolation");
   const EmitterAnimation &animation = groom.animation;
   require(within_scene_bounds(animation.pivot), "animation.pivot");

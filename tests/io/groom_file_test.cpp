@@ -134,7 +134,6 @@ TEST_CASE("a full groom file sets every field of GroomDesc", "[io]") {
   CHECK(i.radius == 2.5);
   CHECK(i.falloff == 3.0f);
   CHECK(i.skin_margin == 0.01f);
-  CHECK(i.lookahead_segments == 5);
 
   const plume::PartingSettings &p = g.partings;
   CHECK(p.zone_source == plume::PartingSettings::ZoneSource::face_groups);
@@ -250,7 +249,6 @@ TEST_CASE("a minimal groom file gets the documented defaults", "[io]") {
   CHECK(g.interpolation.radius == 0.0);
   CHECK(g.interpolation.falloff == 2.0f);
   CHECK(g.interpolation.skin_margin < 0.0f);  // automatic: scaled to the guides
-  CHECK(g.interpolation.lookahead_segments == 3);
   CHECK(g.partings.zone_source == plume::PartingSettings::ZoneSource::none);
   CHECK(g.partings.lines.empty());
   CHECK(g.effects.empty());

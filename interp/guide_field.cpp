@@ -1,0 +1,573 @@
+#include "interp/guide_field.h"
+
+#include <algorithm>
+
+namespace plume::interp {
+
+namespace {
+
+/// The most cells the search grid may have: a larger grid takes larger cells.
+constexpr size_t max_cells = size_t(1) << 21;
+/// The most shared cells (one pointer each until listed).
+constexpr size_t max_shared_cells = size_t(1) << 22;
+/// Pieces per span (see GuideField::PieceSpan).
+constexpr int32_t span_pieces = 8;
+
+/// Distance from x to piece `p`. The parameter starts at the projection on the chord and takes three
+/// Newton steps on (c(t) - x) . c'(t) (a piece turns by a few degrees: the distance has one minimum
+/// on it), clamped to [0, 1]; the piece's end points are looked at too.
+float distance_to_piece(const GuidePiece &p, const Eigen::Vector3f &x) {
+  const Eigen::Vector3f chord = p.b + p.c + p.d;  // c(1) - c(0)
+  const float chord_sq = chord.squaredNorm();
+  float t = chord_sq > 0.0f ? std::clamp((x - p.a).dot(chord) / chord_sq, 0.0f, 1.0f) : 0.0f;
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    const Eigen::Vector3f at = p.a + t * (p.b + t * (p.c + t * p.d));
+    const Eigen::Vector3f first = p.b + t * (2.0f * p.c + 3.0f * t * p.d);
+    const Eigen::Vector3f second = 2.0f * p.c + 6.0f * t * p.d;
+    const Eigen::Vector3f offset = at - x;
+    const float slope = offset.dot(first), curvature = first.squaredNorm() + offset.dot(second);
+    if (!(curvature > 0.0f)) break;
+    t = std::clamp(t - slope / curvature, 0.0f, 1.0f);
+  }
+  float best = (p.a + t * (p.b + t * (p.c + t * p.d)) - x).squaredNorm();
+  best = std::min({best, (p.a - x).squaredNorm(), (p.a + chord - x).squaredNorm()});
+  return std::sqrt(best);
+}
+
+/// The piece's unit tangent at the parameter of x's projection on its chord, t0 = clamp((x - a) .
+/// axis / chord, 0, 1): continuous in x, equal to the guide's tangent at the piece's ends, and within
+/// about theta^3 / 24 of the tangent at the closest point for a piece turning by theta.
+Eigen::Vector3f chord_tangent(const GuidePiece &p, const Eigen::Vector3f &x) {
+  const float t = p.chord > 0.0f ? std::clamp((x - p.a).dot(p.axis) / p.chord, 0.0f, 1.0f) : 0.0f;
+  const Eigen::Vector3f first = p.b + t * (2.0f * p.c + 3.0f * t * p.d);
+  const float norm = first.norm();
+  return norm > 0.0f ? Eigen::Vector3f(first / norm) : p.axis;
+}
+
+/// A lower bound of the distance from x to the piece: to its chord, less the sag.
+float piece_lower(const GuidePiece &p, const Eigen::Vector3f &x) {
+  const Eigen::Vector3f from = x - p.a;
+  const float along = std::clamp(from.dot(p.axis), 0.0f, p.chord);
+  return (from - along * p.axis).norm() - p.sag;
+}
+
+}  // namespace
+
+GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members,
+                       const FieldShape &shape, float cell)
+    : shape_(shape), cell_(cell) {
+  // Pieces: the guide's distinct points (a point within a millionth of a cell of the previous one is
+  // left out) joined by Hermite cubics. Unit tangents at inner points bisect the two chords meeting
+  // there; at the ends, the inner tangent mirrored about the end chord (exact on a circular arc).
+  const float tiny = 1e-6f * cell;
+  std::vector<Eigen::Vector3f> points, chords, tangents;
+  guide_begin_.assign(guides.strand_count(), 0);
+  guide_end_.assign(guides.strand_count(), 0);
+  for (const int32_t g : members) {
+    guide_begin_[size_t(g)] = guide_end_[size_t(g)] = int32_t(pieces_.size());
+    points.clear();
+    for (const Eigen::Vector3f &p : guides.points(size_t(g)))
+      if (points.empty() || (p - points.back()).norm() > tiny) points.push_back(p);
+    const size_t count = points.size();
+    if (count < 2) continue;  // a guide of no length shows no direction
+    chords.resize(count - 1);
+    for (size_t j = 0; j + 1 < count; ++j) chords[j] = (points[j + 1] - points[j]).normalized();
+    tangents.resize(count);
+    for (size_t j = 1; j + 1 < count; ++j) {
+      const Eigen::Vector3f sum = chords[j - 1] + chords[j];
+      tangents[j] = sum.norm() > 1e-6f ? Eigen::Vector3f(sum.normalized()) : chords[j];
+    }
+    auto mirror = [](const Eigen::Vector3f &inner, const Eigen::Vector3f &chord) {
+      const Eigen::Vector3f m = 2.0f * chord.dot(inner) * chord - inner;
+      return m.norm() > 1e-6f ? Eigen::Vector3f(m.normalized()) : chord;
+    };
+    tangents[0] = count > 2 ? mirror(tangents[1], chords[0]) : chords[0];
+    tangents[count - 1] = count > 2 ? mirror(tangents[count - 2], chords[count - 2]) : chords[0];
+    for (size_t j = 0; j + 1 < count; ++j) {
+      const Eigen::Vector3f &p0 = points[j], &p1 = points[j + 1];
+      const float length = (p1 - p0).norm();
+      const Eigen::Vector3f m0 = length * tangents[j], m1 = length * tangents[j + 1];
+      GuidePiece piece;
+      piece.a = p0;
+      piece.b = m0;
+      piece.c = 3.0f * (p1 - p0) - 2.0f * m0 - m1;
+      piece.d = 2.0f * (p0 - p1) + m0 + m1;
+      // The Bezier control points p0, p0 + m0/3, p1 - m1/3, p1 hold the piece (convex hull).
+      const Eigen::Vector3f control[4] = {p0, p0 + m0 / 3.0f, p1 - m1 / 3.0f, p1};
+      piece.centre = 0.25f * (control[0] + control[1] + control[2] + control[3]);
+      for (const Eigen::Vector3f &q : control) piece.radius = std::max(piece.radius, (q - piece.centre).norm());
+      piece.radius *= 1.0f + 1e-5f;  // rounding
+      piece.chord = length;
+      piece.axis = (p1 - p0) / length;
+      for (const Eigen::Vector3f &q : control) {
+        const float along = std::clamp((q - p0).dot(piece.axis), 0.0f, length);
+        piece.sag = std::max(piece.sag, (q - p0 - along * piece.axis).norm());
+      }
+      piece.sag = piece.sag * (1.0f + 1e-5f) + 1e-6f * length;  // rounding
+      piece.guide = g;
+      max_sag_ = std::max(max_sag_, piece.sag);
+      pieces_.push_back(piece);
+    }
+    guide_end_[size_t(g)] = int32_t(pieces_.size());
+  }
+  if (pieces_.empty()) return;
+
+  // Spans: runs of up to span_pieces consecutive pieces of one guide, each in a ball holding its
+  // pieces' balls; searches look at spans first and at the pieces of the spans near enough.
+  guide_span_begin_.assign(guides.strand_count(), 0);
+  guide_span_end_.assign(guides.strand_count(), 0);
+  for (const int32_t g : members) {
+    guide_span_begin_[size_t(g)] = int32_t(spans_.size());
+    for (int32_t begin = guide_begin_[size_t(g)]; begin < guide_end_[size_t(g)]; begin += span_pieces) {
+      const int32_t end = std::min(begin + span_pieces, guide_end_[size_t(g)]);
+      Eigen::Vector3f box_lo = Eigen::Vector3f::Constant(INFINITY), box_hi = -box_lo;
+      for (int32_t i = begin; i < end; ++i) {
+        const GuidePiece &p = pieces_[size_t(i)];
+        box_lo = box_lo.cwiseMin(p.centre - Eigen::Vector3f::Constant(p.radius));
+        box_hi = box_hi.cwiseMax(p.centre + Eigen::Vector3f::Constant(p.radius));
+      }
+      PieceSpan span;
+      span.centre = 0.5f * (box_lo + box_hi);
+      for (int32_t i = begin; i < end; ++i)
+        span.radius = std::max(span.radius, (pieces_[size_t(i)].centre - span.centre).norm() + pieces_[size_t(i)].radius);
+      span.radius *= 1.0f + 1e-5f;  // rounding
+      span.guide = g;
+      span.begin = begin;
+      span.end = end;
+      spans_.push_back(span);
+    }
+    guide_span_end_[size_t(g)] = int32_t(spans_.size());
+  }
+
+  // The search grid: each span listed in every cell its ball's box meets.
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  for (const PieceSpan &p : spans_) {
+    lo = lo.cwiseMin(p.centre - Eigen::Vector3f::Constant(p.radius));
+    hi = hi.cwiseMax(p.centre + Eigen::Vector3f::Constant(p.radius));
+  }
+  const Eigen::Vector3f extent = hi - lo;
+  for (;;) {
+    for (int a = 0; a < 3; ++a) dims_[a] = std::max(1, int(std::ceil(extent[a] / cell_)));
+    if (size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z()) <= max_cells) break;
+    cell_ *= 1.5f;
+  }
+  origin_ = lo;
+  const size_t cell_count = size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z());
+  cell_offsets_.assign(cell_count + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int32_t> fill;
+    if (pass == 1) {
+      for (size_t c = 0; c < cell_count; ++c) cell_offsets_[c + 1] += cell_offsets_[c];
+      cell_spans_.resize(size_t(cell_offsets_.back()));
+      fill.assign(cell_offsets_.begin(), cell_offsets_.end() - 1);
+    }
+    for (size_t i = 0; i < spans_.size(); ++i) {
+      const PieceSpan &p = spans_[i];
+      const Eigen::Vector3i from = cell_of(p.centre - Eigen::Vector3f::Constant(p.radius));
+      const Eigen::Vector3i to = cell_of(p.centre + Eigen::Vector3f::Constant(p.radius));
+      for (int z = from.z(); z <= to.z(); ++z)
+        for (int y = from.y(); y <= to.y(); ++y)
+          for (int x = from.x(); x <= to.x(); ++x) {
+            const size_t c = cell_index(x, y, z);
+            if (pass == 0)
+              ++cell_offsets_[c + 1];
+            else
+              cell_spans_[size_t(fill[c]++)] = int32_t(i);
+          }
+    }
+  }
+
+  // The shared cells: half a search cell (larger when the box would need too many), over the
+  // pieces' box and two search cells round it, where strands run beside their guides.
+  shared_cell_ = 0.5f * cell_;
+  const Eigen::Vector3f shared_lo = lo - Eigen::Vector3f::Constant(2.0f * cell_);
+  const Eigen::Vector3f shared_extent = extent + Eigen::Vector3f::Constant(4.0f * cell_);
+  for (;;) {
+    for (int a = 0; a < 3; ++a) shared_dims_[a] = std::max(1, int(std::ceil(shared_extent[a] / shared_cell_)));
+    if (size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z()) <= max_shared_cells) break;
+    shared_cell_ *= 1.5f;
+  }
+  shared_origin_ = shared_lo;
+  const size_t shared_count = size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z());
+  shared_ = std::make_unique<std::atomic<Candidates *>[]>(shared_count);
+  for (size_t c = 0; c < shared_count; ++c) shared_[c].store(nullptr, std::memory_order_relaxed);
+  parent_dims_ = (shared_dims_ + Eigen::Vector3i::Ones()) / 2;
+  const size_t parent_count = size_t(parent_dims_.x()) * size_t(parent_dims_.y()) * size_t(parent_dims_.z());
+  parents_ = std::make_unique<std::atomic<Candidates *>[]>(parent_count);
+  for (size_t c = 0; c < parent_count; ++c) parents_[c].store(nullptr, std::memory_order_relaxed);
+}
+
+GuideField::~GuideField() {
+  if (!shared_) return;
+  const size_t shared_count = size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z());
+  for (size_t c = 0; c < shared_count; ++c) delete shared_[c].load(std::memory_order_relaxed);
+  const size_t parent_count = size_t(parent_dims_.x()) * size_t(parent_dims_.y()) * size_t(parent_dims_.z());
+  for (size_t c = 0; c < parent_count; ++c) delete parents_[c].load(std::memory_order_relaxed);
+}
+
+/// Publishes a list into a shared slot unless another thread did first; returns the slot's list.
+const GuideField::Candidates *GuideField::publish(std::atomic<Candidates *> &slot, std::unique_ptr<Candidates> made) {
+  // Kept for the frame: no spare capacity.
+  made->pieces.shrink_to_fit();
+  made->piece_lower.shrink_to_fit();
+  made->guides.shrink_to_fit();
+  Candidates *expected = nullptr;
+  if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
+    return made.release();
+  return expected;
+}
+
+const GuideField::Candidates *GuideField::shared_candidates(const Eigen::Vector3f &x, Cache &cache) const {
+  if (!shared_) return nullptr;
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) {
+    const float at = std::floor((x[a] - shared_origin_[a]) / shared_cell_);
+    if (!(at >= 0.0f && at < float(shared_dims_[a]))) return nullptr;  // outside (or NaN)
+    c[a] = int(at);
+  }
+  std::atomic<Candidates *> &slot =
+      shared_[(size_t(c.z()) * size_t(shared_dims_.y()) + size_t(c.y())) * size_t(shared_dims_.x()) + size_t(c.x())];
+  const Candidates *list = slot.load(std::memory_order_acquire);
+  if (!list) {
+    // The parent cell's list (twice the edge, the cell's ball inside its own, with room for
+    // rounding), gathered from the search grid; the cell's list narrowed from it. Each depends on
+    // its cell alone: whichever thread fills it first, it is the same.
+    const Eigen::Vector3i p = c / 2;
+    std::atomic<Candidates *> &parent_slot =
+        parents_[(size_t(p.z()) * size_t(parent_dims_.y()) + size_t(p.y())) * size_t(parent_dims_.x()) + size_t(p.x())];
+    const Candidates *parent = parent_slot.load(std::memory_order_acquire);
+    if (!parent) {
+      auto made = std::make_unique<Candidates>();
+      const Eigen::Vector3f centre =
+          shared_origin_ + 2.0f * shared_cell_ * (p.cast<float>() + Eigen::Vector3f::Constant(0.5f));
+      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, *made, cache.order, cache.effective);
+      parent = publish(parent_slot, std::move(made));
+    }
+    auto made = std::make_unique<Candidates>();
+    const Eigen::Vector3f centre = shared_origin_ + shared_cell_ * (c.cast<float>() + Eigen::Vector3f::Constant(0.5f));
+    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), *made, cache.effective);
+    list = publish(slot, std::move(made));
+  }
+  // Rounding can put a point on a cell's border just outside its ball: it takes its own list.
+  return (x - list->centre).norm() <= list->valid ? list : nullptr;
+}
+
+void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float valid, Candidates &r_list,
+                        std::vector<float> &lowers) const {
+  // As gather(), over the pieces of a list valid over a ball holding this one (a piece that
+  // matters here matters there, so it is listed there): the nearest listed piece's ball bounds the
+  // nearest guide's distance (the nearest guide's nearest piece is listed), and a guide's listed
+  // pieces hold its nearest ones.
+  // The list's bounds hold within `offset` of x, less or more that: the nearest guide is nearer than
+  // the least upper bound, and only a guide whose lower bound is below that can hold the nearest
+  // piece.
+  const float offset = (x - from.centre).norm();
+  float upper = INFINITY;
+  for (const Candidates::Guide &g : from.guides) upper = std::min(upper, g.upper + offset);
+  for (const Candidates::Guide &g : from.guides) {
+    if (g.lower - offset > upper) continue;
+    for (int32_t e = g.begin; e < g.end; ++e) {
+      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      upper = std::min(upper, (x - p.centre).norm() + p.radius);
+    }
+  }
+  const float radius = shape_.reach * (upper + valid) + valid;
+  r_list.guides.clear();
+  r_list.pieces.clear();
+  r_list.piece_lower.clear();
+  for (const Candidates::Guide &g : from.guides) {
+    if (g.lower - offset > radius) continue;  // farther than the radius everywhere
+    bool near = false;
+    for (int32_t e = g.begin; e < g.end && !near; ++e) {
+      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      near = (x - p.centre).norm() - p.radius <= radius;
+    }
+    if (!near) continue;
+    float guide_upper = INFINITY, guide_lower = INFINITY;
+    lowers.resize(size_t(g.end - g.begin));
+    for (int32_t e = g.begin; e < g.end; ++e) {
+      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      const float lower = piece_lower(p, x);
+      lowers[size_t(e - g.begin)] = lower;
+      guide_lower = std::min(guide_lower, lower);
+      guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+    }
+    const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
+    const int32_t begin = int32_t(r_list.pieces.size());
+    for (int32_t e = g.begin; e < g.end; ++e)
+      if (lowers[size_t(e - g.begin)] <= piece_radius) {
+        r_list.pieces.push_back(from.pieces[size_t(e)]);
+        r_list.piece_lower.push_back(lowers[size_t(e - g.begin)]);
+      }
+    r_list.guides.push_back({g.guide, begin, int32_t(r_list.pieces.size()), guide_lower, guide_upper});
+  }
+  r_list.centre = x;
+  r_list.valid = valid;
+}
+
+Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(std::floor((p[a] - origin_[a]) / cell_)), 0, dims_[a] - 1);
+  return c;
+}
+
+void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates &r_list, std::vector<int32_t> &found,
+                        std::vector<float> &lowers) const {
+  // An upper bound of the nearest guide's distance: the nearest span's ball, found ring by ring of
+  // cells round x (a span not met within ring k lies in cells of ring k + 1 or more, at least k
+  // cells away), then the nearest piece's ball among the spans found below. Points outside the
+  // grid's box look at every span.
+  float upper = INFINITY;
+  const Eigen::Vector3f box_lo = origin_, box_hi = origin_ + cell_ * dims_.cast<float>();
+  const bool inside = (x.array() >= box_lo.array()).all() && (x.array() <= box_hi.array()).all();
+  if (inside) {
+    const Eigen::Vector3i c0 = cell_of(x);
+    const int rings = dims_.maxCoeff();
+    const auto scan = [&](int xi, int y, int z) {
+      const size_t c = cell_index(xi, y, z);
+      for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) {
+        const PieceSpan &p = spans_[size_t(cell_spans_[size_t(e)])];
+        upper = std::min(upper, (x - p.centre).norm() + p.radius);
+      }
+    };
+    // Ring k: the cells at chessboard distance k, whole rows where z or y is on the ring, else the
+    // row's two ends.
+    for (int k = 0; k <= rings && !(float(k - 1) * cell_ >= upper); ++k)
+      for (int z = std::max(c0.z() - k, 0); z <= std::min(c0.z() + k, dims_.z() - 1); ++z)
+        for (int y = std::max(c0.y() - k, 0); y <= std::min(c0.y() + k, dims_.y() - 1); ++y) {
+          if (std::abs(z - c0.z()) == k || std::abs(y - c0.y()) == k) {
+            for (int xi = std::max(c0.x() - k, 0); xi <= std::min(c0.x() + k, dims_.x() - 1); ++xi) scan(xi, y, z);
+          } else {
+            if (c0.x() - k >= 0) scan(c0.x() - k, y, z);
+            if (k > 0 && c0.x() + k < dims_.x()) scan(c0.x() + k, y, z);
+          }
+        }
+  } else {
+    for (const PieceSpan &p : spans_) upper = std::min(upper, (x - p.centre).norm() + p.radius);
+  }
+  // Within `valid` of x: the nearest guide is nearer than upper + valid, so a guide weighs only if
+  // some piece of it lies within reach * (upper + valid) + valid of x; and a piece counts in its
+  // guide's tangent only within coil_reach times the guide's distance, which is below the guide's
+  // own bound plus valid. So the list keeps, of the guides near enough, the pieces near enough.
+  const auto valid_for = [&](float bound) {
+    return valid_asked >= 0.0f ? valid_asked : std::max(0.5f * bound, 0.5f * cell_);
+  };
+  float valid = valid_for(upper);
+  float radius = shape_.reach * (upper + valid) + valid;
+  found.clear();
+  const Eigen::Vector3i from = cell_of(x - Eigen::Vector3f::Constant(radius));
+  const Eigen::Vector3i to = cell_of(x + Eigen::Vector3f::Constant(radius));
+  const size_t cells = size_t(to.x() - from.x() + 1) * size_t(to.y() - from.y() + 1) * size_t(to.z() - from.z() + 1);
+  auto consider = [&](int32_t i) {
+    const PieceSpan &p = spans_[size_t(i)];
+    if ((x - p.centre).norm() - p.radius <= radius) found.push_back(i);
+  };
+  if (!inside || cells > spans_.size() / 4) {
+    for (size_t i = 0; i < spans_.size(); ++i) consider(int32_t(i));
+  } else {
+    for (int z = from.z(); z <= to.z(); ++z)
+      for (int y = from.y(); y <= to.y(); ++y)
+        for (int xi = from.x(); xi <= to.x(); ++xi) {
+          const size_t c = cell_index(xi, y, z);
+          for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) consider(cell_spans_[size_t(e)]);
+        }
+  }
+  std::sort(found.begin(), found.end());
+  found.erase(std::unique(found.begin(), found.end()), found.end());
+  // The nearest piece's ball: it lies in a span whose ball is nearer than `upper`, found above.
+  for (const int32_t i : found) {
+    const PieceSpan &span = spans_[size_t(i)];
+    if (!((x - span.centre).norm() - span.radius < upper)) continue;
+    for (int32_t j = span.begin; j < span.end; ++j)
+      upper = std::min(upper, (x - pieces_[size_t(j)].centre).norm() + pieces_[size_t(j)].radius);
+  }
+  valid = valid_for(upper);
+  radius = shape_.reach * (upper + valid) + valid;
+
+  // Per guide with a span within the radius: its pieces' capsule bounds, span by span, the span of
+  // least ball bound first; a span whose ball lies beyond the pieces' radius holds no piece that
+  // can count (its pieces' chords are farther too: the ball holds them).
+  r_list.guides.clear();
+  r_list.pieces.clear();
+  r_list.piece_lower.clear();
+  const float hit = 1e-6f * cell_;
+  for (size_t f = 0; f < found.size();) {
+    const int32_t g = spans_[size_t(found[f])].guide;
+    bool near = false;
+    for (; f < found.size() && spans_[size_t(found[f])].guide == g; ++f)
+      near = near || (x - spans_[size_t(found[f])].centre).norm() - spans_[size_t(found[f])].radius <= radius;
+    if (!near) continue;
+    const int32_t span_begin = guide_span_begin_[size_t(g)], span_end = guide_span_end_[size_t(g)];
+    const int32_t begin_piece = guide_begin_[size_t(g)], end_piece = guide_end_[size_t(g)];
+    lowers.assign(size_t(end_piece - begin_piece), INFINITY);
+    float guide_upper = INFINITY, guide_lower = INFINITY;
+    int32_t first = span_begin;
+    float first_bound = INFINITY;
+    for (int32_t i = span_begin; i < span_end; ++i) {
+      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      if (bound < first_bound) {
+        first_bound = bound;
+        first = i;
+      }
+    }
+    const auto measure_span = [&](int32_t i) {
+      for (int32_t j = spans_[size_t(i)].begin; j < spans_[size_t(i)].end; ++j) {
+        const GuidePiece &p = pieces_[size_t(j)];
+        const float lower = piece_lower(p, x);
+        lowers[size_t(j - begin_piece)] = lower;
+        guide_lower = std::min(guide_lower, lower);
+        guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+      }
+    };
+    measure_span(first);
+    for (int32_t i = span_begin; i < span_end; ++i) {
+      if (i == first) continue;
+      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid + hit;
+      if (bound <= piece_radius)
+        measure_span(i);
+      else
+        guide_lower = std::min(guide_lower, bound);
+    }
+    const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
+    const int32_t begin = int32_t(r_list.pieces.size());
+    for (int32_t i = begin_piece; i < end_piece; ++i)
+      if (lowers[size_t(i - begin_piece)] <= piece_radius) {
+        r_list.pieces.push_back(i);
+        r_list.piece_lower.push_back(lowers[size_t(i - begin_piece)]);
+      }
+    r_list.guides.push_back({g, begin, int32_t(r_list.pieces.size()), guide_lower, guide_upper});
+  }
+  r_list.centre = x;
+  r_list.valid = valid;
+}
+
+GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
+                                        const GuideAttenuation *attenuation) const {
+  Sample sample;
+  if (pieces_.empty()) return sample;
+  const Candidates *listed = shared_candidates(x, cache);
+  if (!listed) {
+    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.effective);
+    listed = &cache.own;
+  }
+  const Candidates &candidates = *listed;
+
+  // Guide bounds at x from the cache's (1-Lipschitz): the nearest guide is nearer than the smallest
+  // upper bound, and a guide every point of which is farther than reach times that does not weigh.
+  // Within a weighing guide, every cached piece's chord distance and lower bound (capsule about its
+  // chord) are computed, and the exact distance only to the pieces that can be the nearest.
+  std::vector<Cache::Near> &near = cache.near;
+  near.clear();
+  const float moved = (x - candidates.centre).norm();
+  float upper = INFINITY;
+  for (const Candidates::Guide &g : candidates.guides) upper = std::min(upper, g.upper + moved);
+  // One guide's pieces into `near`; returns the guide's distance.
+  const auto measure = [&](const Candidates::Guide &g) {
+    const size_t first = near.size();
+    size_t best = first;
+    // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
+    // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
+    const float skip = shape_.coil_reach * (g.upper + moved + max_sag_) + moved + 1e-6f * cell_;
+    for (int32_t e = g.begin; e < g.end; ++e) {
+      if (candidates.piece_lower[size_t(e)] > skip) continue;
+      const int32_t piece = candidates.pieces[size_t(e)];
+      const GuidePiece &p = pieces_[size_t(piece)];
+      const float lower = piece_lower(p, x);
+      near.push_back({g.guide, piece, lower, INFINITY, lower + p.sag});
+      if (near.back().lower < near[best].lower) best = near.size() - 1;
+    }
+    // The guide's distance: the exact distance to the piece of least lower bound, then to every
+    // piece whose bound lies below the best found.
+    float distance = distance_to_piece(pieces_[size_t(near[best].piece)], x);
+    near[best].distance = distance;
+    for (size_t j = first; j < near.size(); ++j) {
+      Cache::Near &n = near[j];
+      if (j == best || !(n.lower < distance)) continue;
+      n.distance = distance_to_piece(pieces_[size_t(n.piece)], x);
+      distance = std::min(distance, n.distance);
+    }
+    return distance;
+  };
+  // Without attenuation a guide weighs nothing beyond reach times the nearest guide's distance, so
+  // the guide of least bound is measured first and its distance tightens the limit: the guides
+  // skipped for it would have had no weight, and the answer is the same to the bit.
+  // Its pieces stay in `near` and are moved to their place in guide order after the others.
+  const Candidates::Guide *first = nullptr;
+  if (!attenuation) {
+    for (const Candidates::Guide &g : candidates.guides)
+      if (g.begin != g.end && (!first || g.lower < first->lower)) first = &g;
+    if (first) upper = std::min(upper, measure(*first));
+  }
+  const size_t first_count = near.size();
+  const float guide_limit = shape_.reach * upper;
+  for (const Candidates::Guide &g : candidates.guides) {
+    if (&g == first || g.lower - moved >= guide_limit || g.begin == g.end) continue;
+    measure(g);
+  }
+  if (first_count > 0) {
+    size_t place = first_count;
+    while (place < near.size() && near[place].guide < first->guide) ++place;
+    std::rotate(near.begin(), near.begin() + ptrdiff_t(first_count), near.begin() + ptrdiff_t(place));
+  }
+  // Per guide (pieces come grouped by guide, in order): its distance d_g, the smallest of its
+  // pieces', and its effective distance, d_g / factor with an attenuation; the nearest of both.
+  float nearest = INFINITY, nearest_effective = INFINITY;
+  std::vector<float> &effective = cache.effective;
+  effective.assign(near.size(), INFINITY);
+  for (size_t begin = 0; begin < near.size();) {
+    size_t end = begin;
+    float distance = INFINITY;
+    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
+      distance = std::min(distance, near[end].distance);
+    float counted = distance;
+    if (attenuation && distance < INFINITY) {
+      const float factor = attenuation->factor(near[begin].guide);
+      counted = factor > 0.0f ? distance / factor : INFINITY;
+    }
+    std::fill(effective.begin() + ptrdiff_t(begin), effective.begin() + ptrdiff_t(end), counted);
+    nearest = std::min(nearest, distance);
+    nearest_effective = std::min(nearest_effective, counted);
+    begin = end;
+  }
+  sample.nearest = nearest;
+  const float hit = 1e-6f * cell_;
+  const bool on_guide = nearest <= hit;
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  float total = 0.0f;
+  for (size_t begin = 0; begin < near.size();) {
+    size_t end = begin;
+    float distance = INFINITY;
+    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
+      distance = std::min(distance, near[end].distance);
+    // On a guide: that guide alone (or the guides meeting there). Elsewhere 1/d (effective), faded
+    // out between (reach - 1) and reach times the nearest guide's.
+    const float counted = effective[begin];
+    const float weight = on_guide ? (distance <= hit ? 1.0f : 0.0f)
+                                  : (counted < INFINITY ? fade(counted / nearest_effective - (shape_.reach - 1.0f)) / counted
+                                                        : 0.0f);
+    if (weight > 0.0f) {
+      // The guide's tangent: its pieces' chord tangents, each faded as its chord lies farther than
+      // the guide's nearest chord (e_j against e_min, continuous in x; on the guide the piece under
+      // x has the nearest chord).
+      float chord_min = INFINITY;
+      for (size_t j = begin; j < end; ++j) chord_min = std::min(chord_min, near[j].chord_distance);
+      const float span = (shape_.coil_reach - 1.0f) * chord_min + hit;
+      Eigen::Vector3f tangent = Eigen::Vector3f::Zero();
+      for (size_t j = begin; j < end; ++j) {
+        const float share = fade((near[j].chord_distance - chord_min) / span);
+        if (share > 0.0f) tangent += share * chord_tangent(pieces_[size_t(near[j].piece)], x);
+      }
+      const float norm = tangent.norm();
+      if (norm > 0.0f) {
+        sum += (weight / norm) * tangent;
+        total += weight;
+      }
+    }
+    begin = end;
+  }
+  if (total > 0.0f) sample.direction = sum / total;
+  return sample;
+}
+
+}  // namespace plume::interp

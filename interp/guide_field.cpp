@@ -1,6 +1,9 @@
 #include "interp/guide_field.h"
 
 #include <algorithm>
+#include <cstring>
+
+#include "skin/lanes.h"
 
 namespace plume::interp {
 
@@ -10,8 +13,17 @@ namespace {
 constexpr size_t max_cells = size_t(1) << 21;
 /// The most shared cells (one pointer each until listed).
 constexpr size_t max_shared_cells = size_t(1) << 22;
+/// Lanes of the bounds' loops: one AVX register where the build has AVX2.
+#ifdef __AVX2__
+constexpr int lanes = 8;
+#else
+constexpr int lanes = 4;
+#endif
 /// Pieces per span (see GuideField::PieceSpan).
 constexpr int32_t span_pieces = 8;
+/// Up to this many spans, a list is gathered by measuring every span in one vectorised loop rather
+/// than by walking the search grid.
+constexpr size_t all_spans_limit = 4096;
 
 /// Distance from x to piece `p`. The parameter starts at the projection on the chord and takes three
 /// Newton steps on (c(t) - x) . c'(t) (a piece turns by a few degrees: the distance has one minimum
@@ -44,12 +56,6 @@ Eigen::Vector3f chord_tangent(const GuidePiece &p, const Eigen::Vector3f &x) {
   return norm > 0.0f ? Eigen::Vector3f(first / norm) : p.axis;
 }
 
-/// A lower bound of the distance from x to the piece: to its chord, less the sag.
-float piece_lower(const GuidePiece &p, const Eigen::Vector3f &x) {
-  const Eigen::Vector3f from = x - p.a;
-  const float along = std::clamp(from.dot(p.axis), 0.0f, p.chord);
-  return (from - along * p.axis).norm() - p.sag;
-}
 
 }  // namespace
 
@@ -111,6 +117,18 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
     guide_end_[size_t(g)] = int32_t(pieces_.size());
   }
   if (pieces_.empty()) return;
+  balls_.reserve(pieces_.size());
+  for (const GuidePiece &p : pieces_) {
+    capsules_.ax.push_back(p.a.x());
+    capsules_.ay.push_back(p.a.y());
+    capsules_.az.push_back(p.a.z());
+    capsules_.ux.push_back(p.axis.x());
+    capsules_.uy.push_back(p.axis.y());
+    capsules_.uz.push_back(p.axis.z());
+    capsules_.chord.push_back(p.chord);
+    capsules_.sag.push_back(p.sag);
+    balls_.push_back({p.centre, p.radius});
+  }
 
   // Spans: runs of up to span_pieces consecutive pieces of one guide, each in a ball holding its
   // pieces' balls; searches look at spans first and at the pieces of the spans near enough.
@@ -137,6 +155,12 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
       spans_.push_back(span);
     }
     guide_span_end_[size_t(g)] = int32_t(spans_.size());
+  }
+  for (const PieceSpan &span : spans_) {
+    span_x_.push_back(span.centre.x());
+    span_y_.push_back(span.centre.y());
+    span_z_.push_back(span.centre.z());
+    span_radius_.push_back(span.radius);
   }
 
   // The search grid: each span listed in every cell its ball's box meets.
@@ -206,11 +230,9 @@ GuideField::~GuideField() {
 }
 
 /// Publishes a list into a shared slot unless another thread did first; returns the slot's list.
-const GuideField::Candidates *GuideField::publish(std::atomic<Candidates *> &slot, std::unique_ptr<Candidates> made) {
+const GuideField::Candidates *GuideField::publish(std::atomic<Candidates *> &slot, const Candidates &list) {
   // Kept for the frame: no spare capacity.
-  made->pieces.shrink_to_fit();
-  made->piece_lower.shrink_to_fit();
-  made->guides.shrink_to_fit();
+  auto made = std::make_unique<Candidates>(list);
   Candidates *expected = nullptr;
   if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
     return made.release();
@@ -237,16 +259,15 @@ const GuideField::Candidates *GuideField::shared_candidates(const Eigen::Vector3
         parents_[(size_t(p.z()) * size_t(parent_dims_.y()) + size_t(p.y())) * size_t(parent_dims_.x()) + size_t(p.x())];
     const Candidates *parent = parent_slot.load(std::memory_order_acquire);
     if (!parent) {
-      auto made = std::make_unique<Candidates>();
       const Eigen::Vector3f centre =
           shared_origin_ + 2.0f * shared_cell_ * (p.cast<float>() + Eigen::Vector3f::Constant(0.5f));
-      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, *made, cache.order, cache.effective);
-      parent = publish(parent_slot, std::move(made));
+      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, cache.making, cache.order, cache.effective,
+             cache.distances);
+      parent = publish(parent_slot, cache.making);
     }
-    auto made = std::make_unique<Candidates>();
     const Eigen::Vector3f centre = shared_origin_ + shared_cell_ * (c.cast<float>() + Eigen::Vector3f::Constant(0.5f));
-    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), *made, cache.effective);
-    list = publish(slot, std::move(made));
+    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), cache.making, cache.effective);
+    list = publish(slot, cache.making);
   }
   // Rounding can put a point on a cell's border just outside its ball: it takes its own list.
   return (x - list->centre).norm() <= list->valid ? list : nullptr;
@@ -267,7 +288,7 @@ void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float 
   for (const Candidates::Guide &g : from.guides) {
     if (g.lower - offset > upper) continue;
     for (int32_t e = g.begin; e < g.end; ++e) {
-      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      const Ball &p = balls_[size_t(from.pieces[size_t(e)])];
       upper = std::min(upper, (x - p.centre).norm() + p.radius);
     }
   }
@@ -279,18 +300,17 @@ void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float 
     if (g.lower - offset > radius) continue;  // farther than the radius everywhere
     bool near = false;
     for (int32_t e = g.begin; e < g.end && !near; ++e) {
-      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      const Ball &p = balls_[size_t(from.pieces[size_t(e)])];
       near = (x - p.centre).norm() - p.radius <= radius;
     }
     if (!near) continue;
     float guide_upper = INFINITY, guide_lower = INFINITY;
     lowers.resize(size_t(g.end - g.begin));
+    piece_lowers(x, from.pieces.data() + g.begin, lowers.size(), lowers.data());
     for (int32_t e = g.begin; e < g.end; ++e) {
-      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
-      const float lower = piece_lower(p, x);
-      lowers[size_t(e - g.begin)] = lower;
+      const float lower = lowers[size_t(e - g.begin)];
       guide_lower = std::min(guide_lower, lower);
-      guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+      guide_upper = std::min(guide_upper, lower + 2.0f * capsules_.sag[size_t(from.pieces[size_t(e)])]);
     }
     const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
     const int32_t begin = int32_t(r_list.pieces.size());
@@ -311,16 +331,107 @@ Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
   return c;
 }
 
+void GuideField::piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers) const {
+  // A lower bound of the distance from x to a piece: to its chord, less the sag, lane by lane with
+  // Eigen's arithmetic for 3-vectors (a dot product is x0 y0 + (x1 y1 + x2 y2)): the same to the bit
+  // as the scalar form. The last lanes repeat the last piece.
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  const Float px = Float{} + x.x(), py = Float{} + x.y(), pz = Float{} + x.z(), zero = Float{};
+  for (size_t e = 0; e < count; e += W) {
+    const bool full = e + W <= count;
+    alignas(32) int32_t ids[W];
+    if (full)
+      std::memcpy(ids, pieces + e, sizeof(ids));
+    else
+      for (int l = 0; l < W; ++l) ids[l] = pieces[std::min(e + size_t(l), count - 1)];
+    const auto load = [&ids](const std::vector<float> &values) {
+#ifdef __AVX2__
+      return Float(_mm256_i32gather_ps(values.data(), _mm256_load_si256(reinterpret_cast<const __m256i *>(ids)), 4));
+#else
+      Float v;
+      for (int l = 0; l < W; ++l) v[l] = values[size_t(ids[l])];
+      return v;
+#endif
+    };
+    const Float ux = load(capsules_.ux), uy = load(capsules_.uy), uz = load(capsules_.uz), chord = load(capsules_.chord);
+    const Float fx = px - load(capsules_.ax), fy = py - load(capsules_.ay), fz = pz - load(capsules_.az);
+    const Float dot = fx * ux + (fy * uy + fz * uz);
+    const Float along = dot < zero ? zero : (chord < dot ? chord : dot);  // std::clamp
+    const Float rx = fx - along * ux, ry = fy - along * uy, rz = fz - along * uz;
+    const Float lower = skin::lane_sqrt(rx * rx + (ry * ry + rz * rz)) - load(capsules_.sag);
+    if (full)
+      std::memcpy(r_lowers + e, &lower, sizeof(lower));
+    else
+      for (size_t l = 0; e + l < count; ++l) r_lowers[e + l] = lower[l];
+  }
+}
+
+float GuideField::span_distances(const Eigen::Vector3f &x, std::vector<float> &r_distances) const {
+  // As Eigen's (x - centre).norm() for a 3-vector: dx^2 + (dy^2 + dz^2), the same to the bit; the
+  // least of distance + radius is the same whichever order it is taken in.
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  const size_t count = spans_.size();
+  r_distances.resize(count);
+  const float *sx = span_x_.data(), *sy = span_y_.data(), *sz = span_z_.data(), *sr = span_radius_.data();
+  float *out = r_distances.data();
+  const Float px = Float{} + x.x(), py = Float{} + x.y(), pz = Float{} + x.z();
+  Float least = Float{} + INFINITY;
+  size_t i = 0;
+  for (; i + W <= count; i += W) {
+    Float cx, cy, cz, radius;
+    std::memcpy(&cx, sx + i, sizeof(Float));
+    std::memcpy(&cy, sy + i, sizeof(Float));
+    std::memcpy(&cz, sz + i, sizeof(Float));
+    std::memcpy(&radius, sr + i, sizeof(Float));
+    const Float dx = px - cx, dy = py - cy, dz = pz - cz;
+    const Float distance = skin::lane_sqrt(dx * dx + (dy * dy + dz * dz));
+    std::memcpy(out + i, &distance, sizeof(Float));
+    const Float far = distance + radius;
+    least = far < least ? far : least;  // std::min(least, far)
+  }
+  float upper = INFINITY;
+  for (int l = 0; l < W; ++l) upper = std::min(upper, least[l]);
+  for (; i < count; ++i) {
+    out[i] = (x - spans_[i].centre).norm();
+    upper = std::min(upper, out[i] + sr[i]);
+  }
+  return upper;
+}
+
+void GuideField::spans_within(const std::vector<float> &distances, float radius, std::vector<int32_t> &r_found) const {
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  const size_t count = spans_.size();
+  const float *sr = span_radius_.data();
+  const Float reach = Float{} + radius;
+  size_t i = 0;
+  for (; i + W <= count; i += W) {
+    Float distance, span_radius;
+    std::memcpy(&distance, distances.data() + i, sizeof(Float));
+    std::memcpy(&span_radius, sr + i, sizeof(Float));
+    for (int bits = skin::lane_bits(distance - span_radius <= reach); bits != 0; bits &= bits - 1)
+      r_found.push_back(int32_t(i) + __builtin_ctz(unsigned(bits)));
+  }
+  for (; i < count; ++i)
+    if (distances[i] - sr[i] <= radius) r_found.push_back(int32_t(i));
+}
+
 void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates &r_list, std::vector<int32_t> &found,
-                        std::vector<float> &lowers) const {
+                        std::vector<float> &lowers, std::vector<float> &distances) const {
   // An upper bound of the nearest guide's distance: the nearest span's ball, found ring by ring of
   // cells round x (a span not met within ring k lies in cells of ring k + 1 or more, at least k
   // cells away), then the nearest piece's ball among the spans found below. Points outside the
-  // grid's box look at every span.
+  // grid's box, and fields of few spans, look at every span (the same bound: a span the rings do
+  // not meet is at least as far as the nearest met).
   float upper = INFINITY;
   const Eigen::Vector3f box_lo = origin_, box_hi = origin_ + cell_ * dims_.cast<float>();
   const bool inside = (x.array() >= box_lo.array()).all() && (x.array() <= box_hi.array()).all();
-  if (inside) {
+  const bool all_spans = !inside || spans_.size() <= all_spans_limit;
+  if (all_spans) {
+    upper = span_distances(x, distances);
+  } else {
     const Eigen::Vector3i c0 = cell_of(x);
     const int rings = dims_.maxCoeff();
     const auto scan = [&](int xi, int y, int z) {
@@ -342,9 +453,11 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
             if (k > 0 && c0.x() + k < dims_.x()) scan(c0.x() + k, y, z);
           }
         }
-  } else {
-    for (const PieceSpan &p : spans_) upper = std::min(upper, (x - p.centre).norm() + p.radius);
   }
+  // The bound of span i's ball at x.
+  const auto span_bound = [&](int32_t i) {
+    return (all_spans ? distances[size_t(i)] : (x - spans_[size_t(i)].centre).norm()) - spans_[size_t(i)].radius;
+  };
   // Within `valid` of x: the nearest guide is nearer than upper + valid, so a guide weighs only if
   // some piece of it lies within reach * (upper + valid) + valid of x; and a piece counts in its
   // guide's tangent only within coil_reach times the guide's distance, which is below the guide's
@@ -359,11 +472,13 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
   const Eigen::Vector3i to = cell_of(x + Eigen::Vector3f::Constant(radius));
   const size_t cells = size_t(to.x() - from.x() + 1) * size_t(to.y() - from.y() + 1) * size_t(to.z() - from.z() + 1);
   auto consider = [&](int32_t i) {
-    const PieceSpan &p = spans_[size_t(i)];
-    if ((x - p.centre).norm() - p.radius <= radius) found.push_back(i);
+    if (span_bound(i) <= radius) found.push_back(i);
   };
   if (!inside || cells > spans_.size() / 4) {
-    for (size_t i = 0; i < spans_.size(); ++i) consider(int32_t(i));
+    if (all_spans)
+      spans_within(distances, radius, found);
+    else
+      for (size_t i = 0; i < spans_.size(); ++i) consider(int32_t(i));
   } else {
     for (int z = from.z(); z <= to.z(); ++z)
       for (int y = from.y(); y <= to.y(); ++y)
@@ -371,15 +486,15 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
           const size_t c = cell_index(xi, y, z);
           for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) consider(cell_spans_[size_t(e)]);
         }
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
   }
-  std::sort(found.begin(), found.end());
-  found.erase(std::unique(found.begin(), found.end()), found.end());
   // The nearest piece's ball: it lies in a span whose ball is nearer than `upper`, found above.
   for (const int32_t i : found) {
     const PieceSpan &span = spans_[size_t(i)];
-    if (!((x - span.centre).norm() - span.radius < upper)) continue;
+    if (!(span_bound(i) < upper)) continue;
     for (int32_t j = span.begin; j < span.end; ++j)
-      upper = std::min(upper, (x - pieces_[size_t(j)].centre).norm() + pieces_[size_t(j)].radius);
+      upper = std::min(upper, (x - balls_[size_t(j)].centre).norm() + balls_[size_t(j)].radius);
   }
   valid = valid_for(upper);
   radius = shape_.reach * (upper + valid) + valid;
@@ -395,7 +510,7 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
     const int32_t g = spans_[size_t(found[f])].guide;
     bool near = false;
     for (; f < found.size() && spans_[size_t(found[f])].guide == g; ++f)
-      near = near || (x - spans_[size_t(found[f])].centre).norm() - spans_[size_t(found[f])].radius <= radius;
+      near = near || span_bound(found[f]) <= radius;
     if (!near) continue;
     const int32_t span_begin = guide_span_begin_[size_t(g)], span_end = guide_span_end_[size_t(g)];
     const int32_t begin_piece = guide_begin_[size_t(g)], end_piece = guide_end_[size_t(g)];
@@ -404,25 +519,27 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
     int32_t first = span_begin;
     float first_bound = INFINITY;
     for (int32_t i = span_begin; i < span_end; ++i) {
-      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      const float bound = span_bound(i);
       if (bound < first_bound) {
         first_bound = bound;
         first = i;
       }
     }
     const auto measure_span = [&](int32_t i) {
-      for (int32_t j = spans_[size_t(i)].begin; j < spans_[size_t(i)].end; ++j) {
-        const GuidePiece &p = pieces_[size_t(j)];
-        const float lower = piece_lower(p, x);
-        lowers[size_t(j - begin_piece)] = lower;
+      const int32_t begin = spans_[size_t(i)].begin, end = spans_[size_t(i)].end;
+      int32_t ids[span_pieces];
+      for (int32_t j = begin; j < end; ++j) ids[j - begin] = j;
+      piece_lowers(x, ids, size_t(end - begin), lowers.data() + (begin - begin_piece));
+      for (int32_t j = begin; j < end; ++j) {
+        const float lower = lowers[size_t(j - begin_piece)];
         guide_lower = std::min(guide_lower, lower);
-        guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+        guide_upper = std::min(guide_upper, lower + 2.0f * capsules_.sag[size_t(j)]);
       }
     };
     measure_span(first);
     for (int32_t i = span_begin; i < span_end; ++i) {
       if (i == first) continue;
-      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      const float bound = span_bound(i);
       const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid + hit;
       if (bound <= piece_radius)
         measure_span(i);
@@ -448,7 +565,7 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   if (pieces_.empty()) return sample;
   const Candidates *listed = shared_candidates(x, cache);
   if (!listed) {
-    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.effective);
+    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.effective, cache.distances);
     listed = &cache.own;
   }
   const Candidates &candidates = *listed;
@@ -469,12 +586,15 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
     // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
     const float skip = shape_.coil_reach * (g.upper + moved + max_sag_) + moved + 1e-6f * cell_;
-    for (int32_t e = g.begin; e < g.end; ++e) {
-      if (candidates.piece_lower[size_t(e)] > skip) continue;
-      const int32_t piece = candidates.pieces[size_t(e)];
-      const GuidePiece &p = pieces_[size_t(piece)];
-      const float lower = piece_lower(p, x);
-      near.push_back({g.guide, piece, lower, INFINITY, lower + p.sag});
+    std::vector<int32_t> &measured = cache.measured;
+    measured.clear();
+    for (int32_t e = g.begin; e < g.end; ++e)
+      if (!(candidates.piece_lower[size_t(e)] > skip)) measured.push_back(candidates.pieces[size_t(e)]);
+    cache.measured_lower.resize(measured.size());
+    piece_lowers(x, measured.data(), measured.size(), cache.measured_lower.data());
+    for (size_t e = 0; e < measured.size(); ++e) {
+      const float lower = cache.measured_lower[e];
+      near.push_back({g.guide, measured[e], lower, INFINITY, lower + capsules_.sag[size_t(measured[e])]});
       if (near.back().lower < near[best].lower) best = near.size() - 1;
     }
     // The guide's distance: the exact distance to the piece of least lower bound, then to every
@@ -555,7 +675,10 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
       const float span = (shape_.coil_reach - 1.0f) * chord_min + hit;
       Eigen::Vector3f tangent = Eigen::Vector3f::Zero();
       for (size_t j = begin; j < end; ++j) {
-        const float share = fade((near[j].chord_distance - chord_min) / span);
+        // A chord at least `span` beyond the nearest has u >= 1 (rounding keeps it so): no share.
+        const float beyond = near[j].chord_distance - chord_min;
+        if (beyond >= span) continue;
+        const float share = fade(beyond / span);
         if (share > 0.0f) tangent += share * chord_tangent(pieces_[size_t(near[j].piece)], x);
       }
       const float norm = tangent.norm();

@@ -261,12 +261,12 @@ const GuideField::Candidates *GuideField::shared_candidates(const Eigen::Vector3
     if (!parent) {
       const Eigen::Vector3f centre =
           shared_origin_ + 2.0f * shared_cell_ * (p.cast<float>() + Eigen::Vector3f::Constant(0.5f));
-      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, cache.making, cache.order, cache.effective,
+      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, cache.making, cache.order, cache.lowers,
              cache.distances);
       parent = publish(parent_slot, cache.making);
     }
     const Eigen::Vector3f centre = shared_origin_ + shared_cell_ * (c.cast<float>() + Eigen::Vector3f::Constant(0.5f));
-    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), cache.making, cache.effective);
+    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), cache.making, cache.lowers);
     list = publish(slot, cache.making);
   }
   // Rounding can put a point on a cell's border just outside its ball: it takes its own list.
@@ -565,7 +565,7 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   if (pieces_.empty()) return sample;
   const Candidates *listed = shared_candidates(x, cache);
   if (!listed) {
-    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.effective, cache.distances);
+    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.lowers, cache.distances);
     listed = &cache.own;
   }
   const Candidates &candidates = *listed;
@@ -574,14 +574,16 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // upper bound, and a guide every point of which is farther than reach times that does not weigh.
   // Within a weighing guide, every cached piece's chord distance and lower bound (capsule about its
   // chord) are computed, and the exact distance only to the pieces that can be the nearest.
-  std::vector<Cache::Near> &near = cache.near;
-  near.clear();
+  // Every listed piece takes at most one slot of `near` (each guide is measured once).
+  if (cache.near.size() < candidates.pieces.size()) cache.near.resize(candidates.pieces.size());
+  Cache::Near *near = cache.near.data();
+  size_t count = 0;
   const float moved = (x - candidates.centre).norm();
   float upper = INFINITY;
   for (const Candidates::Guide &g : candidates.guides) upper = std::min(upper, g.upper + moved);
   // One guide's pieces into `near`; returns the guide's distance.
   const auto measure = [&](const Candidates::Guide &g) {
-    const size_t first = near.size();
+    const size_t first = count;
     size_t best = first;
     // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
     // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
@@ -594,14 +596,15 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     piece_lowers(x, measured.data(), measured.size(), cache.measured_lower.data());
     for (size_t e = 0; e < measured.size(); ++e) {
       const float lower = cache.measured_lower[e];
-      near.push_back({g.guide, measured[e], lower, INFINITY, lower + capsules_.sag[size_t(measured[e])]});
-      if (near.back().lower < near[best].lower) best = near.size() - 1;
+      near[count] = {g.guide, measured[e], lower, INFINITY, lower + capsules_.sag[size_t(measured[e])]};
+      if (near[count].lower < near[best].lower) best = count;
+      ++count;
     }
     // The guide's distance: the exact distance to the piece of least lower bound, then to every
     // piece whose bound lies below the best found.
     float distance = distance_to_piece(pieces_[size_t(near[best].piece)], x);
     near[best].distance = distance;
-    for (size_t j = first; j < near.size(); ++j) {
+    for (size_t j = first; j < count; ++j) {
       Cache::Near &n = near[j];
       if (j == best || !(n.lower < distance)) continue;
       n.distance = distance_to_piece(pieces_[size_t(n.piece)], x);
@@ -619,7 +622,7 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
       if (g.begin != g.end && (!first || g.lower < first->lower)) first = &g;
     if (first) upper = std::min(upper, measure(*first));
   }
-  const size_t first_count = near.size();
+  const size_t first_count = count;
   const float guide_limit = shape_.reach * upper;
   for (const Candidates::Guide &g : candidates.guides) {
     if (&g == first || g.lower - moved >= guide_limit || g.begin == g.end) continue;
@@ -627,25 +630,24 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   }
   if (first_count > 0) {
     size_t place = first_count;
-    while (place < near.size() && near[place].guide < first->guide) ++place;
-    std::rotate(near.begin(), near.begin() + ptrdiff_t(first_count), near.begin() + ptrdiff_t(place));
+    while (place < count && near[place].guide < first->guide) ++place;
+    std::rotate(near, near + first_count, near + place);
   }
   // Per guide (pieces come grouped by guide, in order): its distance d_g, the smallest of its
   // pieces', and its effective distance, d_g / factor with an attenuation; the nearest of both.
   float nearest = INFINITY, nearest_effective = INFINITY;
-  std::vector<float> &effective = cache.effective;
-  effective.assign(near.size(), INFINITY);
-  for (size_t begin = 0; begin < near.size();) {
+  std::vector<Cache::Group> &groups = cache.groups;
+  groups.clear();
+  for (size_t begin = 0; begin < count;) {
     size_t end = begin;
     float distance = INFINITY;
-    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
-      distance = std::min(distance, near[end].distance);
+    for (; end < count && near[end].guide == near[begin].guide; ++end) distance = std::min(distance, near[end].distance);
     float counted = distance;
     if (attenuation && distance < INFINITY) {
       const float factor = attenuation->factor(near[begin].guide);
       counted = factor > 0.0f ? distance / factor : INFINITY;
     }
-    std::fill(effective.begin() + ptrdiff_t(begin), effective.begin() + ptrdiff_t(end), counted);
+    groups.push_back({begin, end, distance, counted});
     nearest = std::min(nearest, distance);
     nearest_effective = std::min(nearest_effective, counted);
     begin = end;
@@ -655,14 +657,12 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   const bool on_guide = nearest <= hit;
   Eigen::Vector3f sum = Eigen::Vector3f::Zero();
   float total = 0.0f;
-  for (size_t begin = 0; begin < near.size();) {
-    size_t end = begin;
-    float distance = INFINITY;
-    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
-      distance = std::min(distance, near[end].distance);
+  for (const Cache::Group &group : groups) {
+    const size_t begin = group.begin, end = group.end;
+    const float distance = group.distance;
     // On a guide: that guide alone (or the guides meeting there). Elsewhere 1/d (effective), faded
     // out between (reach - 1) and reach times the nearest guide's.
-    const float counted = effective[begin];
+    const float counted = group.counted;
     const float weight = on_guide ? (distance <= hit ? 1.0f : 0.0f)
                                   : (counted < INFINITY ? fade(counted / nearest_effective - (shape_.reach - 1.0f)) / counted
                                                         : 0.0f);
@@ -687,7 +687,6 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
         total += weight;
       }
     }
-    begin = end;
   }
   if (total > 0.0f) sample.direction = sum / total;
   return sample;

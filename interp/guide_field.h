@@ -92,9 +92,15 @@ class GuideField {
       float distance;        // the exact distance, or infinity when not computed
       float chord_distance;  // the distance to the piece's chord
     };
-    std::vector<Near> near;
+    std::vector<Near> near;  // slots; an evaluation uses a prefix
+    /// Per measured guide: its pieces' range in `near`, its distance and its effective distance.
+    struct Group {
+      size_t begin, end;
+      float distance, counted;
+    };
+    std::vector<Group> groups;
     std::vector<int32_t> order;
-    std::vector<float> effective;  // per piece, its guide's effective distance
+    std::vector<float> lowers;  // per piece, scratch for gathering and narrowing lists
     std::vector<float> distances;  // per span, for gathering lists
     std::vector<int32_t> measured;   // the pieces whose bounds are computed, and their bounds
     std::vector<float> measured_lower;

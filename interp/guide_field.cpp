@@ -367,6 +367,82 @@ void GuideField::piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, s
   }
 }
 
+void GuideField::piece_distances(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_distances) const {
+  // distance_to_piece() lane by lane, with its arithmetic in the same order (Eigen's for 3-vectors:
+  // a sum of three is x0 + (x1 + x2)); a lane whose Newton step stops keeps its parameter.
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  using Int = skin::Lanes<W>::Int;
+  const Float zero = Float{}, one = Float{} + 1.0f;
+  const Float px = zero + x.x(), py = zero + x.y(), pz = zero + x.z();
+  const auto dot = [](Float ux, Float uy, Float uz, Float vx, Float vy, Float vz) { return ux * vx + (uy * vy + uz * vz); };
+  const auto clamp01 = [&](Float v) { return v < zero ? zero : (one < v ? one : v); };
+  for (size_t e = 0; e < count; e += W) {
+    Float a[3], b[3], c[3], d[3];
+#ifdef __AVX2__
+    // The pieces' coefficients gathered from the pieces' array, a float at a time.
+    constexpr int stride = int(sizeof(GuidePiece) / sizeof(float));
+    static_assert(sizeof(GuidePiece) % sizeof(float) == 0);
+    alignas(32) int32_t offsets[W];
+    for (int l = 0; l < W; ++l) offsets[l] = stride * pieces[std::min(e + size_t(l), count - 1)];
+    const __m256i index = _mm256_load_si256(reinterpret_cast<const __m256i *>(offsets));
+    const GuidePiece &front = pieces_.front();
+    for (int k = 0; k < 3; ++k) {
+      a[k] = Float(_mm256_i32gather_ps(front.a.data() + k, index, 4));
+      b[k] = Float(_mm256_i32gather_ps(front.b.data() + k, index, 4));
+      c[k] = Float(_mm256_i32gather_ps(front.c.data() + k, index, 4));
+      d[k] = Float(_mm256_i32gather_ps(front.d.data() + k, index, 4));
+    }
+#else
+    for (int l = 0; l < W; ++l) {
+      const GuidePiece &p = pieces_[size_t(pieces[std::min(e + size_t(l), count - 1)])];
+      for (int k = 0; k < 3; ++k) {
+        a[k][l] = p.a[k];
+        b[k][l] = p.b[k];
+        c[k][l] = p.c[k];
+        d[k][l] = p.d[k];
+      }
+    }
+#endif
+    Float chord[3], from[3];
+    for (int k = 0; k < 3; ++k) {
+      chord[k] = b[k] + c[k] + d[k];
+      from[k] = (k == 0 ? px : k == 1 ? py : pz) - a[k];
+    }
+    const Float chord_sq = dot(chord[0], chord[1], chord[2], chord[0], chord[1], chord[2]);
+    Float t = chord_sq > zero ? clamp01(dot(from[0], from[1], from[2], chord[0], chord[1], chord[2]) / chord_sq) : zero;
+    Int active = chord_sq == chord_sq;  // all lanes
+    const Float p3[3] = {px, py, pz};
+    for (int iteration = 0; iteration < 3; ++iteration) {
+      Float offset[3], first[3], second[3];
+      for (int k = 0; k < 3; ++k) {
+        offset[k] = (a[k] + t * (b[k] + t * (c[k] + t * d[k]))) - p3[k];
+        first[k] = b[k] + t * (2.0f * c[k] + (3.0f * t) * d[k]);
+        second[k] = 2.0f * c[k] + (6.0f * t) * d[k];
+      }
+      const Float slope = dot(offset[0], offset[1], offset[2], first[0], first[1], first[2]);
+      const Float curvature = dot(first[0], first[1], first[2], first[0], first[1], first[2]) +
+                              dot(offset[0], offset[1], offset[2], second[0], second[1], second[2]);
+      active = active & (curvature > zero);
+      if (!skin::any(active)) break;
+      t = active ? clamp01(t - slope / curvature) : t;
+    }
+    Float at[3], start[3], end[3];
+    for (int k = 0; k < 3; ++k) {
+      at[k] = (a[k] + t * (b[k] + t * (c[k] + t * d[k]))) - p3[k];
+      start[k] = a[k] - p3[k];
+      end[k] = (a[k] + chord[k]) - p3[k];
+    }
+    Float best = dot(at[0], at[1], at[2], at[0], at[1], at[2]);
+    const Float to_start = dot(start[0], start[1], start[2], start[0], start[1], start[2]);
+    const Float to_end = dot(end[0], end[1], end[2], end[0], end[1], end[2]);
+    best = to_start < best ? to_start : best;  // std::min({best, to_start, to_end})
+    best = to_end < best ? to_end : best;
+    const Float distance = skin::lane_sqrt(best);
+    for (size_t l = 0; l < size_t(W) && e + l < count; ++l) r_distances[e + l] = distance[l];
+  }
+}
+
 float GuideField::span_distances(const Eigen::Vector3f &x, std::vector<float> &r_distances) const {
   // As Eigen's (x - centre).norm() for a 3-vector: dx^2 + (dy^2 + dz^2), the same to the bit; the
   // least of distance + radius is the same whichever order it is taken in.
@@ -575,33 +651,42 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // Within a weighing guide, every cached piece's chord distance and lower bound (capsule about its
   // chord) are computed, and the exact distance only to the pieces that can be the nearest.
   // Every listed piece takes at most one slot of `near` (each guide is measured once).
-  if (cache.near.size() < candidates.pieces.size()) cache.near.resize(candidates.pieces.size());
+  if (cache.near.size() < candidates.pieces.size()) {
+    cache.near.resize(candidates.pieces.size());
+    cache.measured_lower.resize(candidates.pieces.size());
+  }
   Cache::Near *near = cache.near.data();
   size_t count = 0;
   const float moved = (x - candidates.centre).norm();
   float upper = INFINITY;
   for (const Candidates::Guide &g : candidates.guides) upper = std::min(upper, g.upper + moved);
   // One guide's pieces into `near`; returns the guide's distance.
-  const auto measure = [&](const Candidates::Guide &g) {
+  // One guide's pieces into `near`; returns the slot of least lower bound.
+  const auto list = [&](const Candidates::Guide &g) {
     const size_t first = count;
     size_t best = first;
     // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
     // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
     const float skip = shape_.coil_reach * (g.upper + moved + max_sag_) + moved + 1e-6f * cell_;
-    std::vector<int32_t> &measured = cache.measured;
-    measured.clear();
-    for (int32_t e = g.begin; e < g.end; ++e)
-      if (!(candidates.piece_lower[size_t(e)] > skip)) measured.push_back(candidates.pieces[size_t(e)]);
-    cache.measured_lower.resize(measured.size());
-    piece_lowers(x, measured.data(), measured.size(), cache.measured_lower.data());
-    for (size_t e = 0; e < measured.size(); ++e) {
-      const float lower = cache.measured_lower[e];
-      near[count] = {g.guide, measured[e], lower, INFINITY, lower + capsules_.sag[size_t(measured[e])]};
+    // (The bounds are computed lanes at a time for all the guide's listed pieces: a few more.)
+    const int32_t *listed = candidates.pieces.data() + g.begin;
+    float *lowers = cache.measured_lower.data();
+    piece_lowers(x, listed, size_t(g.end - g.begin), lowers);
+    for (int32_t e = 0; e < g.end - g.begin; ++e) {
+      if (candidates.piece_lower[size_t(g.begin + e)] > skip) continue;
+      const float lower = lowers[e];
+      near[count] = {g.guide, listed[e], lower, INFINITY, lower + capsules_.sag[size_t(listed[e])]};
       if (near[count].lower < near[best].lower) best = count;
       ++count;
     }
-    // The guide's distance: the exact distance to the piece of least lower bound, then to every
-    // piece whose bound lies below the best found.
+    return best;
+  };
+  // The guide's distance: the exact distance to the piece of least lower bound, then to every piece
+  // whose bound lies below it (a piece whose bound is not below the best found cannot be nearer:
+  // computing it or not leaves the smallest the same).
+  const auto measure = [&](const Candidates::Guide &g) {
+    const size_t first = count;
+    const size_t best = list(g);
     float distance = distance_to_piece(pieces_[size_t(near[best].piece)], x);
     near[best].distance = distance;
     for (size_t j = first; j < count; ++j) {
@@ -624,10 +709,39 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   }
   const size_t first_count = count;
   const float guide_limit = shape_.reach * upper;
+  // The other guides within the limit, their exact distances lanes at a time across the guides:
+  // first each guide's piece of least bound, then every piece whose bound is below that distance.
+  std::vector<Cache::Pending> &batch = cache.pending;
+  batch.clear();
   for (const Candidates::Guide &g : candidates.guides) {
     if (&g == first || g.lower - moved >= guide_limit || g.begin == g.end) continue;
-    measure(g);
+    const size_t begin = count, best = list(g);
+    if (count > begin) batch.push_back({begin, count, best});
   }
+  std::vector<int32_t> &ids = cache.ids;
+  std::vector<size_t> &slots = cache.slots;
+  ids.clear();
+  slots.clear();
+  for (const Cache::Pending &guide : batch) {
+    slots.push_back(guide.best);
+    ids.push_back(near[guide.best].piece);
+  }
+  cache.distances_out.resize(std::max(cache.distances_out.size(), ids.size()));
+  piece_distances(x, ids.data(), ids.size(), cache.distances_out.data());
+  for (size_t k = 0; k < slots.size(); ++k) near[slots[k]].distance = cache.distances_out[k];
+  ids.clear();
+  slots.clear();
+  for (const Cache::Pending &guide : batch) {
+    const float distance = near[guide.best].distance;
+    for (size_t j = guide.begin; j < guide.end; ++j)
+      if (j != guide.best && near[j].lower < distance) {
+        slots.push_back(j);
+        ids.push_back(near[j].piece);
+      }
+  }
+  cache.distances_out.resize(std::max(cache.distances_out.size(), ids.size()));
+  piece_distances(x, ids.data(), ids.size(), cache.distances_out.data());
+  for (size_t k = 0; k < slots.size(); ++k) near[slots[k]].distance = cache.distances_out[k];
   if (first_count > 0) {
     size_t place = first_count;
     while (place < count && near[place].guide < first->guide) ++place;

@@ -99,11 +99,19 @@ class GuideField {
       float distance, counted;
     };
     std::vector<Group> groups;
+    /// Per guide listed in `near` whose exact distances are pending: its slots and its slot of
+    /// least bound.
+    struct Pending {
+      size_t begin, end, best;
+    };
+    std::vector<Pending> pending;
     std::vector<int32_t> order;
     std::vector<float> lowers;  // per piece, scratch for gathering and narrowing lists
     std::vector<float> distances;  // per span, for gathering lists
-    std::vector<int32_t> measured;   // the pieces whose bounds are computed, and their bounds
-    std::vector<float> measured_lower;
+    std::vector<float> measured_lower;  // one guide's listed pieces' bounds
+    std::vector<int32_t> ids;  // pieces whose exact distances are computed together, and their slots
+    std::vector<size_t> slots;
+    std::vector<float> distances_out;
     /// A shared list being made: its vectors keep their capacity, and the list published is an
     /// exact-size copy.
     Candidates making;
@@ -138,6 +146,8 @@ class GuideField {
               std::vector<float> &lowers, std::vector<float> &distances) const;
   /// The capsule bounds at x of `pieces` (`count` indices) into r_lowers.
   void piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers) const;
+  /// The exact distances from x to `pieces` (`count` indices) into r_distances, as distance_to_piece.
+  void piece_distances(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_distances) const;
   /// Per span, the distance from x to its ball's centre; returns the least distance plus radius.
   float span_distances(const Eigen::Vector3f &x, std::vector<float> &r_distances) const;
   /// Appends, ascending, the spans whose ball's bound (distance less radius) is within `radius`.

@@ -700,7 +700,7 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // Without attenuation a guide weighs nothing beyond reach times the nearest guide's distance, so
   // the guide of least bound is measured first and its distance tightens the limit: the guides
   // skipped for it would have had no weight, and the answer is the same to the bit.
-  // Its pieces stay in `near` and are moved to their place in guide order after the others.
+  // Its pieces stay first in `near`; its group is put in its place in guide order below.
   const Candidates::Guide *first = nullptr;
   if (!attenuation) {
     for (const Candidates::Guide &g : candidates.guides)
@@ -742,29 +742,35 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   cache.distances_out.resize(std::max(cache.distances_out.size(), ids.size()));
   piece_distances(x, ids.data(), ids.size(), cache.distances_out.data());
   for (size_t k = 0; k < slots.size(); ++k) near[slots[k]].distance = cache.distances_out[k];
-  if (first_count > 0) {
-    size_t place = first_count;
-    while (place < count && near[place].guide < first->guide) ++place;
-    std::rotate(near, near + first_count, near + place);
-  }
-  // Per guide (pieces come grouped by guide, in order): its distance d_g, the smallest of its
-  // pieces', and its effective distance, d_g / factor with an attenuation; the nearest of both.
+  // Per guide (pieces come grouped by guide, the first guide's before the others): its distance
+  // d_g, the smallest of its pieces', and its effective distance, d_g / factor with an attenuation;
+  // the nearest of both. Then the first guide's group is moved to its place in guide order.
   float nearest = INFINITY, nearest_effective = INFINITY;
   std::vector<Cache::Group> &groups = cache.groups;
   groups.clear();
-  for (size_t begin = 0; begin < count;) {
-    size_t end = begin;
-    float distance = INFINITY;
-    for (; end < count && near[end].guide == near[begin].guide; ++end) distance = std::min(distance, near[end].distance);
-    float counted = distance;
-    if (attenuation && distance < INFINITY) {
-      const float factor = attenuation->factor(near[begin].guide);
-      counted = factor > 0.0f ? distance / factor : INFINITY;
+  const auto add_groups = [&](size_t from, size_t to) {
+    for (size_t begin = from; begin < to;) {
+      size_t end = begin;
+      float distance = INFINITY;
+      for (; end < to && near[end].guide == near[begin].guide; ++end) distance = std::min(distance, near[end].distance);
+      float counted = distance;
+      if (attenuation && distance < INFINITY) {
+        const float factor = attenuation->factor(near[begin].guide);
+        counted = factor > 0.0f ? distance / factor : INFINITY;
+      }
+      groups.push_back({begin, end, distance, counted});
+      nearest = std::min(nearest, distance);
+      nearest_effective = std::min(nearest_effective, counted);
+      begin = end;
     }
-    groups.push_back({begin, end, distance, counted});
-    nearest = std::min(nearest, distance);
-    nearest_effective = std::min(nearest_effective, counted);
-    begin = end;
+  };
+  add_groups(0, first_count);
+  const size_t first_groups = groups.size();
+  add_groups(first_count, count);
+  if (first_groups > 0) {
+    size_t place = first_groups;
+    while (place < groups.size() && near[groups[place].begin].guide < first->guide) ++place;
+    std::rotate(groups.begin(), groups.begin() + ptrdiff_t(first_groups), groups.begin() + ptrdiff_t(place));
   }
   sample.nearest = nearest;
   const float hit = 1e-6f * cell_;

@@ -119,14 +119,7 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
   if (pieces_.empty()) return;
   balls_.reserve(pieces_.size());
   for (const GuidePiece &p : pieces_) {
-    capsules_.ax.push_back(p.a.x());
-    capsules_.ay.push_back(p.a.y());
-    capsules_.az.push_back(p.a.z());
-    capsules_.ux.push_back(p.axis.x());
-    capsules_.uy.push_back(p.axis.y());
-    capsules_.uz.push_back(p.axis.z());
-    capsules_.chord.push_back(p.chord);
-    capsules_.sag.push_back(p.sag);
+    capsules_.push_back({p.a.x(), p.a.y(), p.a.z(), p.axis.x(), p.axis.y(), p.axis.z(), p.chord, p.sag});
     balls_.push_back({p.centre, p.radius});
   }
 
@@ -310,7 +303,7 @@ void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float 
     for (int32_t e = g.begin; e < g.end; ++e) {
       const float lower = lowers[size_t(e - g.begin)];
       guide_lower = std::min(guide_lower, lower);
-      guide_upper = std::min(guide_upper, lower + 2.0f * capsules_.sag[size_t(from.pieces[size_t(e)])]);
+      guide_upper = std::min(guide_upper, lower + 2.0f * capsules_[size_t(from.pieces[size_t(e)])].sag);
     }
     const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
     const int32_t begin = int32_t(r_list.pieces.size());
@@ -345,21 +338,23 @@ void GuideField::piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, s
       std::memcpy(ids, pieces + e, sizeof(ids));
     else
       for (int l = 0; l < W; ++l) ids[l] = pieces[std::min(e + size_t(l), count - 1)];
-    const auto load = [&ids](const std::vector<float> &values) {
-#ifdef __AVX2__
-      return Float(_mm256_i32gather_ps(values.data(), _mm256_load_si256(reinterpret_cast<const __m256i *>(ids)), 4));
-#else
-      Float v;
-      for (int l = 0; l < W; ++l) v[l] = values[size_t(ids[l])];
-      return v;
-#endif
-    };
-    const Float ux = load(capsules_.ux), uy = load(capsules_.uy), uz = load(capsules_.uz), chord = load(capsules_.chord);
-    const Float fx = px - load(capsules_.ax), fy = py - load(capsules_.ay), fz = pz - load(capsules_.az);
+    Float ax, ay, az, ux, uy, uz, chord, sag;
+    for (int l = 0; l < W; ++l) {
+      const Capsule &c = capsules_[size_t(ids[l])];
+      ax[l] = c.ax;
+      ay[l] = c.ay;
+      az[l] = c.az;
+      ux[l] = c.ux;
+      uy[l] = c.uy;
+      uz[l] = c.uz;
+      chord[l] = c.chord;
+      sag[l] = c.sag;
+    }
+    const Float fx = px - ax, fy = py - ay, fz = pz - az;
     const Float dot = fx * ux + (fy * uy + fz * uz);
     const Float along = dot < zero ? zero : (chord < dot ? chord : dot);  // std::clamp
     const Float rx = fx - along * ux, ry = fy - along * uy, rz = fz - along * uz;
-    const Float lower = skin::lane_sqrt(rx * rx + (ry * ry + rz * rz)) - load(capsules_.sag);
+    const Float lower = skin::lane_sqrt(rx * rx + (ry * ry + rz * rz)) - sag;
     if (full)
       std::memcpy(r_lowers + e, &lower, sizeof(lower));
     else
@@ -379,21 +374,6 @@ void GuideField::piece_distances(const Eigen::Vector3f &x, const int32_t *pieces
   const auto clamp01 = [&](Float v) { return v < zero ? zero : (one < v ? one : v); };
   for (size_t e = 0; e < count; e += W) {
     Float a[3], b[3], c[3], d[3];
-#ifdef __AVX2__
-    // The pieces' coefficients gathered from the pieces' array, a float at a time.
-    constexpr int stride = int(sizeof(GuidePiece) / sizeof(float));
-    static_assert(sizeof(GuidePiece) % sizeof(float) == 0);
-    alignas(32) int32_t offsets[W];
-    for (int l = 0; l < W; ++l) offsets[l] = stride * pieces[std::min(e + size_t(l), count - 1)];
-    const __m256i index = _mm256_load_si256(reinterpret_cast<const __m256i *>(offsets));
-    const GuidePiece &front = pieces_.front();
-    for (int k = 0; k < 3; ++k) {
-      a[k] = Float(_mm256_i32gather_ps(front.a.data() + k, index, 4));
-      b[k] = Float(_mm256_i32gather_ps(front.b.data() + k, index, 4));
-      c[k] = Float(_mm256_i32gather_ps(front.c.data() + k, index, 4));
-      d[k] = Float(_mm256_i32gather_ps(front.d.data() + k, index, 4));
-    }
-#else
     for (int l = 0; l < W; ++l) {
       const GuidePiece &p = pieces_[size_t(pieces[std::min(e + size_t(l), count - 1)])];
       for (int k = 0; k < 3; ++k) {
@@ -403,7 +383,6 @@ void GuideField::piece_distances(const Eigen::Vector3f &x, const int32_t *pieces
         d[k][l] = p.d[k];
       }
     }
-#endif
     Float chord[3], from[3];
     for (int k = 0; k < 3; ++k) {
       chord[k] = b[k] + c[k] + d[k];
@@ -609,7 +588,7 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
       for (int32_t j = begin; j < end; ++j) {
         const float lower = lowers[size_t(j - begin_piece)];
         guide_lower = std::min(guide_lower, lower);
-        guide_upper = std::min(guide_upper, lower + 2.0f * capsules_.sag[size_t(j)]);
+        guide_upper = std::min(guide_upper, lower + 2.0f * capsules_[size_t(j)].sag);
       }
     };
     measure_span(first);
@@ -675,7 +654,7 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     for (int32_t e = 0; e < g.end - g.begin; ++e) {
       if (candidates.piece_lower[size_t(g.begin + e)] > skip) continue;
       const float lower = lowers[e];
-      near[count] = {g.guide, listed[e], lower, INFINITY, lower + capsules_.sag[size_t(listed[e])]};
+      near[count] = {g.guide, listed[e], lower, INFINITY, lower + capsules_[size_t(listed[e])].sag};
       if (near[count].lower < near[best].lower) best = count;
       ++count;
     }

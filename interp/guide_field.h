@@ -170,14 +170,14 @@ class GuideField {
   FieldShape shape_;
   std::vector<GuidePiece> pieces_;  // grouped by guide, in guide order, each guide's in order
   /// Per piece, its capsule and its ball (copies of GuidePiece's), packed for the bounds' loops.
-  struct Capsules {
-    std::vector<float> ax, ay, az, ux, uy, uz, chord, sag;  // a, axis, chord, sag
+  struct Capsule {
+    float ax, ay, az, ux, uy, uz, chord, sag;  // a, axis, chord, sag
   };
   struct Ball {
     Eigen::Vector3f centre;
     float radius;
   };
-  Capsules capsules_;
+  std::vector<Capsule> capsules_;
   std::vector<Ball> balls_;
   float cell_ = 1.0f;
   float max_sag_ = 0.0f;  // the largest piece's sag

@@ -1,5 +1,5 @@
 // Keeps the points of one strand out of the skin, point after point, with few closest-point queries.
-// Used by streamline growth, push_out_of_skin() and the effects stack.
+// Used by fur and linear growth (each point kept out of the skin) and by the effects stack.
 #pragma once
 
 #include <Eigen/Core>

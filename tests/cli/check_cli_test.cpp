@@ -427,11 +427,13 @@ TEST_CASE("check refuses bad input with exit 2, naming the option or the file", 
   }
 }
 
-TEST_CASE("every groom in grooms/ on the frames it renders: checked at its pose, nothing inside the skin", "[cli]") {
-  // Each shipped groom at its full strand count, on the first frame it renders and, when it renders
-  // a range, the middle one (the head turned): the checker poses the emitter and simulates the
-  // guides itself, and with effects judges the crossings before them. No point may be inside the
-  // skin; --strict fails exactly when a violation is listed, and the figures are printed.
+TEST_CASE("every groom in grooms/ on the middle frame it renders: checked at its pose, nothing inside the skin", "[cli]") {
+  // Each shipped groom at its full strand count, on the middle frame of the range it renders (the
+  // head turned, the tail raised: the pose farthest from rest; the first frame too would double the
+  // suite's longest test, the field growth taking about 20 CPU-s per Sintel frame): the checker
+  // poses the emitter and simulates the guides itself, and with effects judges the crossings before
+  // them. No point may be inside the skin; --strict fails exactly when a violation is listed, and
+  // the figures are printed.
   ScratchDir info_scratch("shipped_info");
   for (const std::string &groom : shipped_grooms()) {
     const RunResult info = run_plume("info " + quoted(groom), info_scratch);
@@ -440,7 +442,8 @@ TEST_CASE("every groom in grooms/ on the frames it renders: checked at its pose,
     const size_t at = info.out.find(", frames ");
     if (at != std::string::npos && std::sscanf(info.out.c_str() + at, ", frames %d-%d", &first, &last) < 2)
       last = first;
-    for (const int frame : last > first ? std::vector<int>{first, (first + last) / 2} : std::vector<int>{first}) {
+    {
+      const int frame = (first + last) / 2;
       INFO(groom << " frame " << frame);
       ScratchDir scratch("shipped_check");
       const std::string out = scratch / "hair.####.usda";

@@ -1,6 +1,9 @@
 #include "interp/guide_field.h"
 
 #include <algorithm>
+#include <cstring>
+
+#include "skin/lanes.h"
 
 namespace plume::interp {
 
@@ -10,8 +13,17 @@ namespace {
 constexpr size_t max_cells = size_t(1) << 21;
 /// The most shared cells (one pointer each until listed).
 constexpr size_t max_shared_cells = size_t(1) << 22;
+/// Lanes of the bounds' loops: one AVX register where the build has AVX2.
+#ifdef __AVX2__
+constexpr int lanes = 8;
+#else
+constexpr int lanes = 4;
+#endif
 /// Pieces per span (see GuideField::PieceSpan).
 constexpr int32_t span_pieces = 8;
+/// Up to this many spans, a list is gathered by measuring every span in one vectorised loop rather
+/// than by walking the search grid.
+constexpr size_t all_spans_limit = 4096;
 
 /// Distance from x to piece `p`. The parameter starts at the projection on the chord and takes three
 /// Newton steps on (c(t) - x) . c'(t) (a piece turns by a few degrees: the distance has one minimum
@@ -44,12 +56,6 @@ Eigen::Vector3f chord_tangent(const GuidePiece &p, const Eigen::Vector3f &x) {
   return norm > 0.0f ? Eigen::Vector3f(first / norm) : p.axis;
 }
 
-/// A lower bound of the distance from x to the piece: to its chord, less the sag.
-float piece_lower(const GuidePiece &p, const Eigen::Vector3f &x) {
-  const Eigen::Vector3f from = x - p.a;
-  const float along = std::clamp(from.dot(p.axis), 0.0f, p.chord);
-  return (from - along * p.axis).norm() - p.sag;
-}
 
 }  // namespace
 
@@ -111,6 +117,11 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
     guide_end_[size_t(g)] = int32_t(pieces_.size());
   }
   if (pieces_.empty()) return;
+  balls_.reserve(pieces_.size());
+  for (const GuidePiece &p : pieces_) {
+    capsules_.push_back({p.a.x(), p.a.y(), p.a.z(), p.axis.x(), p.axis.y(), p.axis.z(), p.chord, p.sag});
+    balls_.push_back({p.centre, p.radius});
+  }
 
   // Spans: runs of up to span_pieces consecutive pieces of one guide, each in a ball holding its
   // pieces' balls; searches look at spans first and at the pieces of the spans near enough.
@@ -137,6 +148,12 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
       spans_.push_back(span);
     }
     guide_span_end_[size_t(g)] = int32_t(spans_.size());
+  }
+  for (const PieceSpan &span : spans_) {
+    span_x_.push_back(span.centre.x());
+    span_y_.push_back(span.centre.y());
+    span_z_.push_back(span.centre.z());
+    span_radius_.push_back(span.radius);
   }
 
   // The search grid: each span listed in every cell its ball's box meets.
@@ -206,11 +223,9 @@ GuideField::~GuideField() {
 }
 
 /// Publishes a list into a shared slot unless another thread did first; returns the slot's list.
-const GuideField::Candidates *GuideField::publish(std::atomic<Candidates *> &slot, std::unique_ptr<Candidates> made) {
+const GuideField::Candidates *GuideField::publish(std::atomic<Candidates *> &slot, const Candidates &list) {
   // Kept for the frame: no spare capacity.
-  made->pieces.shrink_to_fit();
-  made->piece_lower.shrink_to_fit();
-  made->guides.shrink_to_fit();
+  auto made = std::make_unique<Candidates>(list);
   Candidates *expected = nullptr;
   if (slot.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel, std::memory_order_acquire))
     return made.release();
@@ -237,16 +252,15 @@ const GuideField::Candidates *GuideField::shared_candidates(const Eigen::Vector3
         parents_[(size_t(p.z()) * size_t(parent_dims_.y()) + size_t(p.y())) * size_t(parent_dims_.x()) + size_t(p.x())];
     const Candidates *parent = parent_slot.load(std::memory_order_acquire);
     if (!parent) {
-      auto made = std::make_unique<Candidates>();
       const Eigen::Vector3f centre =
           shared_origin_ + 2.0f * shared_cell_ * (p.cast<float>() + Eigen::Vector3f::Constant(0.5f));
-      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, *made, cache.order, cache.effective);
-      parent = publish(parent_slot, std::move(made));
+      gather(centre, std::sqrt(3.0f) * shared_cell_ * 1.001f, cache.making, cache.order, cache.lowers,
+             cache.distances);
+      parent = publish(parent_slot, cache.making);
     }
-    auto made = std::make_unique<Candidates>();
     const Eigen::Vector3f centre = shared_origin_ + shared_cell_ * (c.cast<float>() + Eigen::Vector3f::Constant(0.5f));
-    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), *made, cache.effective);
-    list = publish(slot, std::move(made));
+    narrow(*parent, centre, 0.5f * std::sqrt(3.0f) * shared_cell_ * (1.0f + 1e-5f), cache.making, cache.lowers);
+    list = publish(slot, cache.making);
   }
   // Rounding can put a point on a cell's border just outside its ball: it takes its own list.
   return (x - list->centre).norm() <= list->valid ? list : nullptr;
@@ -267,7 +281,7 @@ void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float 
   for (const Candidates::Guide &g : from.guides) {
     if (g.lower - offset > upper) continue;
     for (int32_t e = g.begin; e < g.end; ++e) {
-      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      const Ball &p = balls_[size_t(from.pieces[size_t(e)])];
       upper = std::min(upper, (x - p.centre).norm() + p.radius);
     }
   }
@@ -279,18 +293,17 @@ void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float 
     if (g.lower - offset > radius) continue;  // farther than the radius everywhere
     bool near = false;
     for (int32_t e = g.begin; e < g.end && !near; ++e) {
-      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
+      const Ball &p = balls_[size_t(from.pieces[size_t(e)])];
       near = (x - p.centre).norm() - p.radius <= radius;
     }
     if (!near) continue;
     float guide_upper = INFINITY, guide_lower = INFINITY;
     lowers.resize(size_t(g.end - g.begin));
+    piece_lowers(x, from.pieces.data() + g.begin, lowers.size(), lowers.data());
     for (int32_t e = g.begin; e < g.end; ++e) {
-      const GuidePiece &p = pieces_[size_t(from.pieces[size_t(e)])];
-      const float lower = piece_lower(p, x);
-      lowers[size_t(e - g.begin)] = lower;
+      const float lower = lowers[size_t(e - g.begin)];
       guide_lower = std::min(guide_lower, lower);
-      guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+      guide_upper = std::min(guide_upper, lower + 2.0f * capsules_[size_t(from.pieces[size_t(e)])].sag);
     }
     const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid;
     const int32_t begin = int32_t(r_list.pieces.size());
@@ -311,16 +324,169 @@ Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
   return c;
 }
 
+void GuideField::piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers) const {
+  // A lower bound of the distance from x to a piece: to its chord, less the sag, lane by lane with
+  // Eigen's arithmetic for 3-vectors (a dot product is x0 y0 + (x1 y1 + x2 y2)): the same to the bit
+  // as the scalar form. The last lanes repeat the last piece.
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  const Float px = Float{} + x.x(), py = Float{} + x.y(), pz = Float{} + x.z(), zero = Float{};
+  for (size_t e = 0; e < count; e += W) {
+    const bool full = e + W <= count;
+    alignas(32) int32_t ids[W];
+    if (full)
+      std::memcpy(ids, pieces + e, sizeof(ids));
+    else
+      for (int l = 0; l < W; ++l) ids[l] = pieces[std::min(e + size_t(l), count - 1)];
+    Float ax, ay, az, ux, uy, uz, chord, sag;
+    for (int l = 0; l < W; ++l) {
+      const Capsule &c = capsules_[size_t(ids[l])];
+      ax[l] = c.ax;
+      ay[l] = c.ay;
+      az[l] = c.az;
+      ux[l] = c.ux;
+      uy[l] = c.uy;
+      uz[l] = c.uz;
+      chord[l] = c.chord;
+      sag[l] = c.sag;
+    }
+    const Float fx = px - ax, fy = py - ay, fz = pz - az;
+    const Float dot = fx * ux + (fy * uy + fz * uz);
+    const Float along = dot < zero ? zero : (chord < dot ? chord : dot);  // std::clamp
+    const Float rx = fx - along * ux, ry = fy - along * uy, rz = fz - along * uz;
+    const Float lower = skin::lane_sqrt(rx * rx + (ry * ry + rz * rz)) - sag;
+    if (full)
+      std::memcpy(r_lowers + e, &lower, sizeof(lower));
+    else
+      for (size_t l = 0; e + l < count; ++l) r_lowers[e + l] = lower[l];
+  }
+}
+
+void GuideField::piece_distances(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_distances) const {
+  // distance_to_piece() lane by lane, with its arithmetic in the same order (Eigen's for 3-vectors:
+  // a sum of three is x0 + (x1 + x2)); a lane whose Newton step stops keeps its parameter.
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  using Int = skin::Lanes<W>::Int;
+  const Float zero = Float{}, one = Float{} + 1.0f;
+  const Float px = zero + x.x(), py = zero + x.y(), pz = zero + x.z();
+  const auto dot = [](Float ux, Float uy, Float uz, Float vx, Float vy, Float vz) { return ux * vx + (uy * vy + uz * vz); };
+  const auto clamp01 = [&](Float v) { return v < zero ? zero : (one < v ? one : v); };
+  for (size_t e = 0; e < count; e += W) {
+    Float a[3], b[3], c[3], d[3];
+    for (int l = 0; l < W; ++l) {
+      const GuidePiece &p = pieces_[size_t(pieces[std::min(e + size_t(l), count - 1)])];
+      for (int k = 0; k < 3; ++k) {
+        a[k][l] = p.a[k];
+        b[k][l] = p.b[k];
+        c[k][l] = p.c[k];
+        d[k][l] = p.d[k];
+      }
+    }
+    Float chord[3], from[3];
+    for (int k = 0; k < 3; ++k) {
+      chord[k] = b[k] + c[k] + d[k];
+      from[k] = (k == 0 ? px : k == 1 ? py : pz) - a[k];
+    }
+    const Float chord_sq = dot(chord[0], chord[1], chord[2], chord[0], chord[1], chord[2]);
+    Float t = chord_sq > zero ? clamp01(dot(from[0], from[1], from[2], chord[0], chord[1], chord[2]) / chord_sq) : zero;
+    Int active = chord_sq == chord_sq;  // all lanes
+    const Float p3[3] = {px, py, pz};
+    for (int iteration = 0; iteration < 3; ++iteration) {
+      Float offset[3], first[3], second[3];
+      for (int k = 0; k < 3; ++k) {
+        offset[k] = (a[k] + t * (b[k] + t * (c[k] + t * d[k]))) - p3[k];
+        first[k] = b[k] + t * (2.0f * c[k] + (3.0f * t) * d[k]);
+        second[k] = 2.0f * c[k] + (6.0f * t) * d[k];
+      }
+      const Float slope = dot(offset[0], offset[1], offset[2], first[0], first[1], first[2]);
+      const Float curvature = dot(first[0], first[1], first[2], first[0], first[1], first[2]) +
+                              dot(offset[0], offset[1], offset[2], second[0], second[1], second[2]);
+      active = active & (curvature > zero);
+      if (!skin::any(active)) break;
+      t = active ? clamp01(t - slope / curvature) : t;
+    }
+    Float at[3], start[3], end[3];
+    for (int k = 0; k < 3; ++k) {
+      at[k] = (a[k] + t * (b[k] + t * (c[k] + t * d[k]))) - p3[k];
+      start[k] = a[k] - p3[k];
+      end[k] = (a[k] + chord[k]) - p3[k];
+    }
+    Float best = dot(at[0], at[1], at[2], at[0], at[1], at[2]);
+    const Float to_start = dot(start[0], start[1], start[2], start[0], start[1], start[2]);
+    const Float to_end = dot(end[0], end[1], end[2], end[0], end[1], end[2]);
+    best = to_start < best ? to_start : best;  // std::min({best, to_start, to_end})
+    best = to_end < best ? to_end : best;
+    const Float distance = skin::lane_sqrt(best);
+    for (size_t l = 0; l < size_t(W) && e + l < count; ++l) r_distances[e + l] = distance[l];
+  }
+}
+
+float GuideField::span_distances(const Eigen::Vector3f &x, std::vector<float> &r_distances) const {
+  // As Eigen's (x - centre).norm() for a 3-vector: dx^2 + (dy^2 + dz^2), the same to the bit; the
+  // least of distance + radius is the same whichever order it is taken in.
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  const size_t count = spans_.size();
+  r_distances.resize(count);
+  const float *sx = span_x_.data(), *sy = span_y_.data(), *sz = span_z_.data(), *sr = span_radius_.data();
+  float *out = r_distances.data();
+  const Float px = Float{} + x.x(), py = Float{} + x.y(), pz = Float{} + x.z();
+  Float least = Float{} + INFINITY;
+  size_t i = 0;
+  for (; i + W <= count; i += W) {
+    Float cx, cy, cz, radius;
+    std::memcpy(&cx, sx + i, sizeof(Float));
+    std::memcpy(&cy, sy + i, sizeof(Float));
+    std::memcpy(&cz, sz + i, sizeof(Float));
+    std::memcpy(&radius, sr + i, sizeof(Float));
+    const Float dx = px - cx, dy = py - cy, dz = pz - cz;
+    const Float distance = skin::lane_sqrt(dx * dx + (dy * dy + dz * dz));
+    std::memcpy(out + i, &distance, sizeof(Float));
+    const Float far = distance + radius;
+    least = far < least ? far : least;  // std::min(least, far)
+  }
+  float upper = INFINITY;
+  for (int l = 0; l < W; ++l) upper = std::min(upper, least[l]);
+  for (; i < count; ++i) {
+    out[i] = (x - spans_[i].centre).norm();
+    upper = std::min(upper, out[i] + sr[i]);
+  }
+  return upper;
+}
+
+void GuideField::spans_within(const std::vector<float> &distances, float radius, std::vector<int32_t> &r_found) const {
+  constexpr int W = lanes;
+  using Float = skin::Lanes<W>::Float;
+  const size_t count = spans_.size();
+  const float *sr = span_radius_.data();
+  const Float reach = Float{} + radius;
+  size_t i = 0;
+  for (; i + W <= count; i += W) {
+    Float distance, span_radius;
+    std::memcpy(&distance, distances.data() + i, sizeof(Float));
+    std::memcpy(&span_radius, sr + i, sizeof(Float));
+    for (int bits = skin::lane_bits(distance - span_radius <= reach); bits != 0; bits &= bits - 1)
+      r_found.push_back(int32_t(i) + __builtin_ctz(unsigned(bits)));
+  }
+  for (; i < count; ++i)
+    if (distances[i] - sr[i] <= radius) r_found.push_back(int32_t(i));
+}
+
 void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates &r_list, std::vector<int32_t> &found,
-                        std::vector<float> &lowers) const {
+                        std::vector<float> &lowers, std::vector<float> &distances) const {
   // An upper bound of the nearest guide's distance: the nearest span's ball, found ring by ring of
   // cells round x (a span not met within ring k lies in cells of ring k + 1 or more, at least k
   // cells away), then the nearest piece's ball among the spans found below. Points outside the
-  // grid's box look at every span.
+  // grid's box, and fields of few spans, look at every span (the same bound: a span the rings do
+  // not meet is at least as far as the nearest met).
   float upper = INFINITY;
   const Eigen::Vector3f box_lo = origin_, box_hi = origin_ + cell_ * dims_.cast<float>();
   const bool inside = (x.array() >= box_lo.array()).all() && (x.array() <= box_hi.array()).all();
-  if (inside) {
+  const bool all_spans = !inside || spans_.size() <= all_spans_limit;
+  if (all_spans) {
+    upper = span_distances(x, distances);
+  } else {
     const Eigen::Vector3i c0 = cell_of(x);
     const int rings = dims_.maxCoeff();
     const auto scan = [&](int xi, int y, int z) {
@@ -342,9 +508,11 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
             if (k > 0 && c0.x() + k < dims_.x()) scan(c0.x() + k, y, z);
           }
         }
-  } else {
-    for (const PieceSpan &p : spans_) upper = std::min(upper, (x - p.centre).norm() + p.radius);
   }
+  // The bound of span i's ball at x.
+  const auto span_bound = [&](int32_t i) {
+    return (all_spans ? distances[size_t(i)] : (x - spans_[size_t(i)].centre).norm()) - spans_[size_t(i)].radius;
+  };
   // Within `valid` of x: the nearest guide is nearer than upper + valid, so a guide weighs only if
   // some piece of it lies within reach * (upper + valid) + valid of x; and a piece counts in its
   // guide's tangent only within coil_reach times the guide's distance, which is below the guide's
@@ -359,11 +527,13 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
   const Eigen::Vector3i to = cell_of(x + Eigen::Vector3f::Constant(radius));
   const size_t cells = size_t(to.x() - from.x() + 1) * size_t(to.y() - from.y() + 1) * size_t(to.z() - from.z() + 1);
   auto consider = [&](int32_t i) {
-    const PieceSpan &p = spans_[size_t(i)];
-    if ((x - p.centre).norm() - p.radius <= radius) found.push_back(i);
+    if (span_bound(i) <= radius) found.push_back(i);
   };
   if (!inside || cells > spans_.size() / 4) {
-    for (size_t i = 0; i < spans_.size(); ++i) consider(int32_t(i));
+    if (all_spans)
+      spans_within(distances, radius, found);
+    else
+      for (size_t i = 0; i < spans_.size(); ++i) consider(int32_t(i));
   } else {
     for (int z = from.z(); z <= to.z(); ++z)
       for (int y = from.y(); y <= to.y(); ++y)
@@ -371,15 +541,15 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
           const size_t c = cell_index(xi, y, z);
           for (int32_t e = cell_offsets_[c]; e < cell_offsets_[c + 1]; ++e) consider(cell_spans_[size_t(e)]);
         }
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
   }
-  std::sort(found.begin(), found.end());
-  found.erase(std::unique(found.begin(), found.end()), found.end());
   // The nearest piece's ball: it lies in a span whose ball is nearer than `upper`, found above.
   for (const int32_t i : found) {
     const PieceSpan &span = spans_[size_t(i)];
-    if (!((x - span.centre).norm() - span.radius < upper)) continue;
+    if (!(span_bound(i) < upper)) continue;
     for (int32_t j = span.begin; j < span.end; ++j)
-      upper = std::min(upper, (x - pieces_[size_t(j)].centre).norm() + pieces_[size_t(j)].radius);
+      upper = std::min(upper, (x - balls_[size_t(j)].centre).norm() + balls_[size_t(j)].radius);
   }
   valid = valid_for(upper);
   radius = shape_.reach * (upper + valid) + valid;
@@ -395,7 +565,7 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
     const int32_t g = spans_[size_t(found[f])].guide;
     bool near = false;
     for (; f < found.size() && spans_[size_t(found[f])].guide == g; ++f)
-      near = near || (x - spans_[size_t(found[f])].centre).norm() - spans_[size_t(found[f])].radius <= radius;
+      near = near || span_bound(found[f]) <= radius;
     if (!near) continue;
     const int32_t span_begin = guide_span_begin_[size_t(g)], span_end = guide_span_end_[size_t(g)];
     const int32_t begin_piece = guide_begin_[size_t(g)], end_piece = guide_end_[size_t(g)];
@@ -404,25 +574,27 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
     int32_t first = span_begin;
     float first_bound = INFINITY;
     for (int32_t i = span_begin; i < span_end; ++i) {
-      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      const float bound = span_bound(i);
       if (bound < first_bound) {
         first_bound = bound;
         first = i;
       }
     }
     const auto measure_span = [&](int32_t i) {
-      for (int32_t j = spans_[size_t(i)].begin; j < spans_[size_t(i)].end; ++j) {
-        const GuidePiece &p = pieces_[size_t(j)];
-        const float lower = piece_lower(p, x);
-        lowers[size_t(j - begin_piece)] = lower;
+      const int32_t begin = spans_[size_t(i)].begin, end = spans_[size_t(i)].end;
+      int32_t ids[span_pieces];
+      for (int32_t j = begin; j < end; ++j) ids[j - begin] = j;
+      piece_lowers(x, ids, size_t(end - begin), lowers.data() + (begin - begin_piece));
+      for (int32_t j = begin; j < end; ++j) {
+        const float lower = lowers[size_t(j - begin_piece)];
         guide_lower = std::min(guide_lower, lower);
-        guide_upper = std::min(guide_upper, lower + 2.0f * p.sag);
+        guide_upper = std::min(guide_upper, lower + 2.0f * capsules_[size_t(j)].sag);
       }
     };
     measure_span(first);
     for (int32_t i = span_begin; i < span_end; ++i) {
       if (i == first) continue;
-      const float bound = (x - spans_[size_t(i)].centre).norm() - spans_[size_t(i)].radius;
+      const float bound = span_bound(i);
       const float piece_radius = shape_.coil_reach * (guide_upper + valid + max_sag_) + valid + hit;
       if (bound <= piece_radius)
         measure_span(i);
@@ -448,7 +620,7 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   if (pieces_.empty()) return sample;
   const Candidates *listed = shared_candidates(x, cache);
   if (!listed) {
-    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.effective);
+    if (!((x - cache.own.centre).norm() <= cache.own.valid)) gather(x, -1.0f, cache.own, cache.order, cache.lowers, cache.distances);
     listed = &cache.own;
   }
   const Candidates &candidates = *listed;
@@ -457,31 +629,46 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // upper bound, and a guide every point of which is farther than reach times that does not weigh.
   // Within a weighing guide, every cached piece's chord distance and lower bound (capsule about its
   // chord) are computed, and the exact distance only to the pieces that can be the nearest.
-  std::vector<Cache::Near> &near = cache.near;
-  near.clear();
+  // Every listed piece takes at most one slot of `near` (each guide is measured once).
+  if (cache.near.size() < candidates.pieces.size()) {
+    cache.near.resize(candidates.pieces.size());
+    cache.measured_lower.resize(candidates.pieces.size());
+  }
+  Cache::Near *near = cache.near.data();
+  size_t count = 0;
   const float moved = (x - candidates.centre).norm();
   float upper = INFINITY;
   for (const Candidates::Guide &g : candidates.guides) upper = std::min(upper, g.upper + moved);
   // One guide's pieces into `near`; returns the guide's distance.
-  const auto measure = [&](const Candidates::Guide &g) {
-    const size_t first = near.size();
+  // One guide's pieces into `near`; returns the slot of least lower bound.
+  const auto list = [&](const Candidates::Guide &g) {
+    const size_t first = count;
     size_t best = first;
     // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
     // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
     const float skip = shape_.coil_reach * (g.upper + moved + max_sag_) + moved + 1e-6f * cell_;
-    for (int32_t e = g.begin; e < g.end; ++e) {
-      if (candidates.piece_lower[size_t(e)] > skip) continue;
-      const int32_t piece = candidates.pieces[size_t(e)];
-      const GuidePiece &p = pieces_[size_t(piece)];
-      const float lower = piece_lower(p, x);
-      near.push_back({g.guide, piece, lower, INFINITY, lower + p.sag});
-      if (near.back().lower < near[best].lower) best = near.size() - 1;
+    // (The bounds are computed lanes at a time for all the guide's listed pieces: a few more.)
+    const int32_t *listed = candidates.pieces.data() + g.begin;
+    float *lowers = cache.measured_lower.data();
+    piece_lowers(x, listed, size_t(g.end - g.begin), lowers);
+    for (int32_t e = 0; e < g.end - g.begin; ++e) {
+      if (candidates.piece_lower[size_t(g.begin + e)] > skip) continue;
+      const float lower = lowers[e];
+      near[count] = {g.guide, listed[e], lower, INFINITY, lower + capsules_[size_t(listed[e])].sag};
+      if (near[count].lower < near[best].lower) best = count;
+      ++count;
     }
-    // The guide's distance: the exact distance to the piece of least lower bound, then to every
-    // piece whose bound lies below the best found.
+    return best;
+  };
+  // The guide's distance: the exact distance to the piece of least lower bound, then to every piece
+  // whose bound lies below it (a piece whose bound is not below the best found cannot be nearer:
+  // computing it or not leaves the smallest the same).
+  const auto measure = [&](const Candidates::Guide &g) {
+    const size_t first = count;
+    const size_t best = list(g);
     float distance = distance_to_piece(pieces_[size_t(near[best].piece)], x);
     near[best].distance = distance;
-    for (size_t j = first; j < near.size(); ++j) {
+    for (size_t j = first; j < count; ++j) {
       Cache::Near &n = near[j];
       if (j == best || !(n.lower < distance)) continue;
       n.distance = distance_to_piece(pieces_[size_t(n.piece)], x);
@@ -492,57 +679,89 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   // Without attenuation a guide weighs nothing beyond reach times the nearest guide's distance, so
   // the guide of least bound is measured first and its distance tightens the limit: the guides
   // skipped for it would have had no weight, and the answer is the same to the bit.
-  // Its pieces stay in `near` and are moved to their place in guide order after the others.
+  // Its pieces stay first in `near`; its group is put in its place in guide order below.
   const Candidates::Guide *first = nullptr;
   if (!attenuation) {
     for (const Candidates::Guide &g : candidates.guides)
       if (g.begin != g.end && (!first || g.lower < first->lower)) first = &g;
     if (first) upper = std::min(upper, measure(*first));
   }
-  const size_t first_count = near.size();
+  const size_t first_count = count;
   const float guide_limit = shape_.reach * upper;
+  // The other guides within the limit, their exact distances lanes at a time across the guides:
+  // first each guide's piece of least bound, then every piece whose bound is below that distance.
+  std::vector<Cache::Pending> &batch = cache.pending;
+  batch.clear();
   for (const Candidates::Guide &g : candidates.guides) {
     if (&g == first || g.lower - moved >= guide_limit || g.begin == g.end) continue;
-    measure(g);
+    const size_t begin = count, best = list(g);
+    if (count > begin) batch.push_back({begin, count, best});
   }
-  if (first_count > 0) {
-    size_t place = first_count;
-    while (place < near.size() && near[place].guide < first->guide) ++place;
-    std::rotate(near.begin(), near.begin() + ptrdiff_t(first_count), near.begin() + ptrdiff_t(place));
+  std::vector<int32_t> &ids = cache.ids;
+  std::vector<size_t> &slots = cache.slots;
+  ids.clear();
+  slots.clear();
+  for (const Cache::Pending &guide : batch) {
+    slots.push_back(guide.best);
+    ids.push_back(near[guide.best].piece);
   }
-  // Per guide (pieces come grouped by guide, in order): its distance d_g, the smallest of its
-  // pieces', and its effective distance, d_g / factor with an attenuation; the nearest of both.
+  cache.distances_out.resize(std::max(cache.distances_out.size(), ids.size()));
+  piece_distances(x, ids.data(), ids.size(), cache.distances_out.data());
+  for (size_t k = 0; k < slots.size(); ++k) near[slots[k]].distance = cache.distances_out[k];
+  ids.clear();
+  slots.clear();
+  for (const Cache::Pending &guide : batch) {
+    const float distance = near[guide.best].distance;
+    for (size_t j = guide.begin; j < guide.end; ++j)
+      if (j != guide.best && near[j].lower < distance) {
+        slots.push_back(j);
+        ids.push_back(near[j].piece);
+      }
+  }
+  cache.distances_out.resize(std::max(cache.distances_out.size(), ids.size()));
+  piece_distances(x, ids.data(), ids.size(), cache.distances_out.data());
+  for (size_t k = 0; k < slots.size(); ++k) near[slots[k]].distance = cache.distances_out[k];
+  // Per guide (pieces come grouped by guide, the first guide's before the others): its distance
+  // d_g, the smallest of its pieces', and its effective distance, d_g / factor with an attenuation;
+  // the nearest of both. Then the first guide's group is moved to its place in guide order.
   float nearest = INFINITY, nearest_effective = INFINITY;
-  std::vector<float> &effective = cache.effective;
-  effective.assign(near.size(), INFINITY);
-  for (size_t begin = 0; begin < near.size();) {
-    size_t end = begin;
-    float distance = INFINITY;
-    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
-      distance = std::min(distance, near[end].distance);
-    float counted = distance;
-    if (attenuation && distance < INFINITY) {
-      const float factor = attenuation->factor(near[begin].guide);
-      counted = factor > 0.0f ? distance / factor : INFINITY;
+  std::vector<Cache::Group> &groups = cache.groups;
+  groups.clear();
+  const auto add_groups = [&](size_t from, size_t to) {
+    for (size_t begin = from; begin < to;) {
+      size_t end = begin;
+      float distance = INFINITY;
+      for (; end < to && near[end].guide == near[begin].guide; ++end) distance = std::min(distance, near[end].distance);
+      float counted = distance;
+      if (attenuation && distance < INFINITY) {
+        const float factor = attenuation->factor(near[begin].guide);
+        counted = factor > 0.0f ? distance / factor : INFINITY;
+      }
+      groups.push_back({begin, end, distance, counted});
+      nearest = std::min(nearest, distance);
+      nearest_effective = std::min(nearest_effective, counted);
+      begin = end;
     }
-    std::fill(effective.begin() + ptrdiff_t(begin), effective.begin() + ptrdiff_t(end), counted);
-    nearest = std::min(nearest, distance);
-    nearest_effective = std::min(nearest_effective, counted);
-    begin = end;
+  };
+  add_groups(0, first_count);
+  const size_t first_groups = groups.size();
+  add_groups(first_count, count);
+  if (first_groups > 0) {
+    size_t place = first_groups;
+    while (place < groups.size() && near[groups[place].begin].guide < first->guide) ++place;
+    std::rotate(groups.begin(), groups.begin() + ptrdiff_t(first_groups), groups.begin() + ptrdiff_t(place));
   }
   sample.nearest = nearest;
   const float hit = 1e-6f * cell_;
   const bool on_guide = nearest <= hit;
   Eigen::Vector3f sum = Eigen::Vector3f::Zero();
   float total = 0.0f;
-  for (size_t begin = 0; begin < near.size();) {
-    size_t end = begin;
-    float distance = INFINITY;
-    for (; end < near.size() && near[end].guide == near[begin].guide; ++end)
-      distance = std::min(distance, near[end].distance);
+  for (const Cache::Group &group : groups) {
+    const size_t begin = group.begin, end = group.end;
+    const float distance = group.distance;
     // On a guide: that guide alone (or the guides meeting there). Elsewhere 1/d (effective), faded
     // out between (reach - 1) and reach times the nearest guide's.
-    const float counted = effective[begin];
+    const float counted = group.counted;
     const float weight = on_guide ? (distance <= hit ? 1.0f : 0.0f)
                                   : (counted < INFINITY ? fade(counted / nearest_effective - (shape_.reach - 1.0f)) / counted
                                                         : 0.0f);
@@ -555,7 +774,10 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
       const float span = (shape_.coil_reach - 1.0f) * chord_min + hit;
       Eigen::Vector3f tangent = Eigen::Vector3f::Zero();
       for (size_t j = begin; j < end; ++j) {
-        const float share = fade((near[j].chord_distance - chord_min) / span);
+        // A chord at least `span` beyond the nearest has u >= 1 (rounding keeps it so): no share.
+        const float beyond = near[j].chord_distance - chord_min;
+        if (beyond >= span) continue;
+        const float share = fade(beyond / span);
         if (share > 0.0f) tangent += share * chord_tangent(pieces_[size_t(near[j].piece)], x);
       }
       const float norm = tangent.norm();
@@ -564,7 +786,6 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
         total += weight;
       }
     }
-    begin = end;
   }
   if (total > 0.0f) sample.direction = sum / total;
   return sample;

@@ -92,9 +92,29 @@ class GuideField {
       float distance;        // the exact distance, or infinity when not computed
       float chord_distance;  // the distance to the piece's chord
     };
-    std::vector<Near> near;
+    std::vector<Near> near;  // slots; an evaluation uses a prefix
+    /// Per measured guide: its pieces' range in `near`, its distance and its effective distance.
+    struct Group {
+      size_t begin, end;
+      float distance, counted;
+    };
+    std::vector<Group> groups;
+    /// Per guide listed in `near` whose exact distances are pending: its slots and its slot of
+    /// least bound.
+    struct Pending {
+      size_t begin, end, best;
+    };
+    std::vector<Pending> pending;
     std::vector<int32_t> order;
-    std::vector<float> effective;  // per piece, its guide's effective distance
+    std::vector<float> lowers;  // per piece, scratch for gathering and narrowing lists
+    std::vector<float> distances;  // per span, for gathering lists
+    std::vector<float> measured_lower;  // one guide's listed pieces' bounds
+    std::vector<int32_t> ids;  // pieces whose exact distances are computed together, and their slots
+    std::vector<size_t> slots;
+    std::vector<float> distances_out;
+    /// A shared list being made: its vectors keep their capacity, and the list published is an
+    /// exact-size copy.
+    Candidates making;
   };
 
   struct Sample {
@@ -121,9 +141,17 @@ class GuideField {
 
  private:
   /// Lists the candidates within `valid` of x (valid < 0: max(U / 2, half a cell), U an upper bound
-  /// of the nearest guide's distance at x). `found` and `lowers` are scratch.
+  /// of the nearest guide's distance at x). `found`, `lowers` and `distances` are scratch.
   void gather(const Eigen::Vector3f &x, float valid, Candidates &r_candidates, std::vector<int32_t> &found,
-              std::vector<float> &lowers) const;
+              std::vector<float> &lowers, std::vector<float> &distances) const;
+  /// The capsule bounds at x of `pieces` (`count` indices) into r_lowers.
+  void piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers) const;
+  /// The exact distances from x to `pieces` (`count` indices) into r_distances, as distance_to_piece.
+  void piece_distances(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_distances) const;
+  /// Per span, the distance from x to its ball's centre; returns the least distance plus radius.
+  float span_distances(const Eigen::Vector3f &x, std::vector<float> &r_distances) const;
+  /// Appends, ascending, the spans whose ball's bound (distance less radius) is within `radius`.
+  void spans_within(const std::vector<float> &distances, float radius, std::vector<int32_t> &r_found) const;
   /// The shared candidates of the cell holding x, listed on first use; null when x lies outside
   /// the shared cells.
   const Candidates *shared_candidates(const Eigen::Vector3f &x, Cache &cache) const;
@@ -131,7 +159,9 @@ class GuideField {
   /// that one. `lowers` is scratch.
   void narrow(const Candidates &from, const Eigen::Vector3f &x, float valid, Candidates &r_list,
               std::vector<float> &lowers) const;
-  static const Candidates *publish(std::atomic<Candidates *> &slot, std::unique_ptr<Candidates> made);
+  /// Publishes an exact-size copy of `made` into a shared slot unless another thread did first;
+  /// returns the slot's list.
+  static const Candidates *publish(std::atomic<Candidates *> &slot, const Candidates &made);
   Eigen::Vector3i cell_of(const Eigen::Vector3f &p) const;
   size_t cell_index(int x, int y, int z) const {
     return (size_t(z) * size_t(dims_.y()) + size_t(y)) * size_t(dims_.x()) + size_t(x);
@@ -139,6 +169,16 @@ class GuideField {
 
   FieldShape shape_;
   std::vector<GuidePiece> pieces_;  // grouped by guide, in guide order, each guide's in order
+  /// Per piece, its capsule and its ball (copies of GuidePiece's), packed for the bounds' loops.
+  struct Capsule {
+    float ax, ay, az, ux, uy, uz, chord, sag;  // a, axis, chord, sag
+  };
+  struct Ball {
+    Eigen::Vector3f centre;
+    float radius;
+  };
+  std::vector<Capsule> capsules_;
+  std::vector<Ball> balls_;
   float cell_ = 1.0f;
   float max_sag_ = 0.0f;  // the largest piece's sag
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
@@ -150,6 +190,7 @@ class GuideField {
     int32_t guide = 0, begin = 0, end = 0;
   };
   std::vector<PieceSpan> spans_;  // grouped by guide, in guide order
+  std::vector<float> span_x_, span_y_, span_z_, span_radius_;  // the spans' balls, packed
   std::vector<int32_t> cell_offsets_;  // CSR over cells: spans whose ball's box meets the cell
   std::vector<int32_t> cell_spans_;
   /// Per guide index (of the guides given): its pieces' range in pieces_ (empty for a non-member).

@@ -59,6 +59,24 @@ void unit_segments(std::span<const Eigen::Vector3f> points, const Eigen::Vector3
   }
 }
 
+/// Walks `count` stations evenly spaced in arc length over the first `total` of a polyline's length
+/// (at least two points): visit(i, segment, t) for station i, at t in [0, 1] along that segment.
+template <typename Visit>
+void arc_length_stations(std::span<const Eigen::Vector3f> points, int count, double total, Visit &&visit) {
+  size_t segment = 0;
+  double start = 0.0;
+  double length = (points[1] - points[0]).norm();
+  for (int i = 0; i < count; ++i) {
+    const double target = total * double(i) / double(count - 1);
+    while (segment + 2 < points.size() && start + length < target) {
+      start += length;
+      ++segment;
+      length = (points[segment + 1] - points[segment]).norm();
+    }
+    visit(i, segment, length > 0.0 ? std::clamp((target - start) / length, 0.0, 1.0) : 0.0);
+  }
+}
+
 /// `points` resampled to `count` points evenly spaced in arc length (a copy when counts match).
 void resample(std::span<const Eigen::Vector3f> points, int count, Eigen::Vector3f *r_points) {
   if (points.size() == size_t(count)) {
@@ -67,19 +85,9 @@ void resample(std::span<const Eigen::Vector3f> points, int count, Eigen::Vector3
   }
   double total = 0.0;
   for (size_t j = 0; j + 1 < points.size(); ++j) total += (points[j + 1] - points[j]).norm();
-  size_t segment = 0;
-  double segment_start = 0.0;
-  double segment_length = (points[1] - points[0]).norm();
-  for (int i = 0; i < count; ++i) {
-    const double target = total * double(i) / double(count - 1);
-    while (segment + 2 < points.size() && segment_start + segment_length < target) {
-      segment_start += segment_length;
-      ++segment;
-      segment_length = (points[segment + 1] - points[segment]).norm();
-    }
-    const double t = segment_length > 0.0 ? std::clamp((target - segment_start) / segment_length, 0.0, 1.0) : 0.0;
+  arc_length_stations(points, count, total, [&](int i, size_t segment, double t) {
     r_points[i] = points[segment] + float(t) * (points[segment + 1] - points[segment]);
-  }
+  });
   r_points[count - 1] = points.back();
 }
 
@@ -235,27 +243,19 @@ struct FinePolyline {
   /// each one's lower bound of its signed distance (the better of its two fine neighbours' bounds
   /// less the way from them; r_lower may be null).
   void resample_to(int count, double total, Eigen::Vector3f *r_points, float *r_lower) const {
-    size_t segment = 0;
-    double start = 0.0;
-    double length = points.size() > 1 ? (points[1] - points[0]).norm() : 0.0;
-    for (int i = 0; i < count; ++i) {
-      const double target = total * double(i) / double(count - 1);
-      while (segment + 2 < points.size() && start + length < target) {
-        start += length;
-        ++segment;
-        length = (points[segment + 1] - points[segment]).norm();
-      }
-      if (points.size() < 2) {
+    if (points.size() < 2) {
+      for (int i = 0; i < count; ++i) {
         r_points[i] = points[0];
         if (r_lower) r_lower[i] = lower[0];
-        continue;
       }
-      const double t = length > 0.0 ? std::clamp((target - start) / length, 0.0, 1.0) : 0.0;
+      return;
+    }
+    arc_length_stations(points, count, total, [&](int i, size_t segment, double t) {
       const Eigen::Vector3f &a = points[segment], &b = points[segment + 1];
       r_points[i] = a + float(t) * (b - a);
       if (r_lower)
         r_lower[i] = std::max(lower[segment] - (r_points[i] - a).norm(), lower[segment + 1] - (r_points[i] - b).norm());
-    }
+    });
   }
   /// The length of the `count`-point polyline resample_to gives over the first `total` of length.
   double resampled_length(int count, double total, std::vector<Eigen::Vector3f> &scratch) const {

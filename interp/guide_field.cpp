@@ -57,6 +57,17 @@ Eigen::Vector3f chord_tangent(const GuidePiece &p, const Eigen::Vector3f &x) {
 }
 
 
+/// Cells of edge r_cell over a box of `extent`, per axis; the edge grows by half at a time until
+/// there are at most `limit`.
+Eigen::Vector3i fit_cells(const Eigen::Vector3f &extent, size_t limit, float &r_cell) {
+  for (;;) {
+    Eigen::Vector3i dims;
+    for (int a = 0; a < 3; ++a) dims[a] = std::max(1, int(std::ceil(extent[a] / r_cell)));
+    if (size_t(dims.x()) * size_t(dims.y()) * size_t(dims.z()) <= limit) return dims;
+    r_cell *= 1.5f;
+  }
+}
+
 }  // namespace
 
 GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members,
@@ -163,11 +174,7 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
     hi = hi.cwiseMax(p.centre + Eigen::Vector3f::Constant(p.radius));
   }
   const Eigen::Vector3f extent = hi - lo;
-  for (;;) {
-    for (int a = 0; a < 3; ++a) dims_[a] = std::max(1, int(std::ceil(extent[a] / cell_)));
-    if (size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z()) <= max_cells) break;
-    cell_ *= 1.5f;
-  }
+  dims_ = fit_cells(extent, max_cells, cell_);
   origin_ = lo;
   const size_t cell_count = size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z());
   cell_offsets_.assign(cell_count + 1, 0);
@@ -199,11 +206,7 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
   shared_cell_ = 0.5f * cell_;
   const Eigen::Vector3f shared_lo = lo - Eigen::Vector3f::Constant(2.0f * cell_);
   const Eigen::Vector3f shared_extent = extent + Eigen::Vector3f::Constant(4.0f * cell_);
-  for (;;) {
-    for (int a = 0; a < 3; ++a) shared_dims_[a] = std::max(1, int(std::ceil(shared_extent[a] / shared_cell_)));
-    if (size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z()) <= max_shared_cells) break;
-    shared_cell_ *= 1.5f;
-  }
+  shared_dims_ = fit_cells(shared_extent, max_shared_cells, shared_cell_);
   shared_origin_ = shared_lo;
   const size_t shared_count = size_t(shared_dims_.x()) * size_t(shared_dims_.y()) * size_t(shared_dims_.z());
   shared_ = std::make_unique<std::atomic<Candidates *>[]>(shared_count);

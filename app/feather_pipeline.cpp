@@ -98,13 +98,17 @@ FeatherPipeline::Frame FeatherPipeline::produce(int frame) {
   return result;
 }
 
-FeatherPipeline::SkinPassFrame FeatherPipeline::skin_pass(int frame) {
-  const feathers::SkinPassState *previous = warm_start(frame);
+FeatherPipeline::SkinPassFrame FeatherPipeline::skin_pass_from(int frame, const feathers::SkinPassState *previous) {
   SkinPassFrame result;
   result.mesh = base_->posed_mesh(frame);
   result.stems = base_->guides_at(frame, result.mesh);
   const MeshQuery query(result.mesh);
   coat_->skin_pass(result.mesh, query, result.stems, previous, result.state);
+  return result;
+}
+
+FeatherPipeline::SkinPassFrame FeatherPipeline::skin_pass(int frame) {
+  SkinPassFrame result = skin_pass_from(frame, warm_start(frame));
   state_ = result.state;
   state_frame_ = frame;
   return result;
@@ -157,12 +161,7 @@ const feathers::SkinPassState *FeatherPipeline::warm_start(int frame) {
   int next = state_frame_ && *state_frame_ < frame && *state_frame_ >= start ? *state_frame_ + 1 : start;
   if (next == start) state_ = {};
   for (; next < frame; ++next) {
-    const Mesh mesh = base_->posed_mesh(next);
-    const StrandSet stems = base_->guides_at(next, mesh);
-    const MeshQuery query(mesh);
-    feathers::SkinPassState state;
-    coat_->skin_pass(mesh, query, stems, state_.empty() ? nullptr : &state_, state);
-    state_ = std::move(state);
+    state_ = skin_pass_from(next, state_.empty() ? nullptr : &state_).state;
     state_frame_ = next;
   }
   return &state_;

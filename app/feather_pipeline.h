@@ -77,6 +77,8 @@ class FeatherPipeline {
   /// last one carried and `frame` when needed. Call before base_->guides_at(frame): a replay asks
   /// for earlier frames' stems.
   const feathers::SkinPassState *warm_start(int frame);
+  /// The skin pass alone at `frame` from `previous` (null: stateless), nothing carried.
+  SkinPassFrame skin_pass_from(int frame, const feathers::SkinPassState *previous);
 
   PipelineOptions options_;
   feathers::SkinPassState state_;  // the skin pass at state_frame_

@@ -994,22 +994,25 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         witness = {};
         ++left_under;
         unordered[i] = 1;
-        // With a warm start, it stays at the turn of the frame before when that keeps it clear of the
-        // lower feathers' vanes and the skin (left under as many as are over it there).
-        if (from >= 0.0 && !conflict(from)) {
-          end_at(from);
-          continue;
+        // With a warm start, the turn of the frame before competes too, when it keeps it clear of the
+        // lower feathers' vanes and the skin: it stays there unless a step within kLocalSteps of it is
+        // under fewer (a step farther away would be a jump).
+        std::ptrdiff_t best = PTRDIFF_MAX;
+        const bool stay = from >= 0.0 && !conflict(from);
+        if (stay) {
+          best = under_count(from, PTRDIFF_MAX);
+          above = from;
         }
         auto worse = [&](double angle, std::ptrdiff_t bound) {
           return conflict(angle) || under_count(angle, bound + 1) > bound;
         };
-        std::ptrdiff_t best = PTRDIFF_MAX;
         double previous_step = 0.0, best_below = 0.0;
         size_t step = 0;
         for (double a = 0.0; a < max_angle + kStep; a += kStep, ++step) {
           const double at = std::min(a, max_angle);
           const signed char known_clear = step < step_clear.size() ? step_clear[step] : -1;
-          if (known_clear == 1 || (known_clear == -1 && !conflict(at))) {
+          const bool near = !stay || std::abs(at - from) <= kLocalSteps * kStep;
+          if (near && (known_clear == 1 || (known_clear == -1 && !conflict(at)))) {
             const std::ptrdiff_t count = under_count(at, best);
             if (count < best) {
               best = count;
@@ -1020,7 +1023,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           previous_step = at;
           // Every turn clear of the lower feathers is under one at least (the search above found no
           // turn under none): the first under one only is the answer.
-          if (at == max_angle || best == 1) break;
+          if (at == max_angle || best <= 1) break;
+        }
+        if (stay && above == from) {
+          end_at(from);
+          continue;
         }
         if (above > 0.0) {
           below = best_below;

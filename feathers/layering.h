@@ -126,7 +126,8 @@ struct LayeringStats {
 /// options.fall_back rachis widths at its farthest point, staying among the turns that clear; a turn
 /// that no longer clears moves to the nearest that does within 3 steps of the search (0.06 radians)
 /// either way; a feather no turn takes out from under the lower ones stays at its turn while that
-/// keeps it clear of their vanes and the skin; a shrunk feather grows back unturned by at most
+/// keeps it clear of their vanes and the skin, unless a step of the search leaves it under fewer of
+/// them; a shrunk feather grows back unturned by at most
 /// options.fall_back rachis widths per frame, and where its size no longer clears, takes the nearest
 /// size below that does; otherwise, the search above. Every answer passes the
 /// same tests as the search's, so the promise (no vane within the offset of a lower one, none below

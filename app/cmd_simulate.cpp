@@ -1,8 +1,8 @@
 // `plume simulate GROOM --frames 1-48 --cache cache/guides.####.hair`: runs the guide dynamics over
 // the range (sequential in time) and writes the simulated guides of every frame, so that dense
 // regrowth (`plume regrow --guides-cache`) can then run per frame or per chunk, anywhere. A feather
-// groom's coat also runs its skin pass, whose state of every frame goes beside the cache (the next
-// frame's warm start: io/feather_lifts.h).
+// groom's coat also runs its skin pass (and, with layers, its layering pass), whose state of every
+// frame goes beside the cache (the next frame's warm start: io/feather_lifts.h).
 #include <memory>
 
 #include "app/commands.h"
@@ -53,11 +53,12 @@ void run_simulate(const SimulateArgs &args) {
   PipelineOptions options;
   options.strand_count = 0;  // guides only: no dense roots are needed
   options.simulation_start = std::min(groom_first_frame(groom), range.first);
-  // A feather groom whose skin pass lifts feathers: its whole coat, for the skin pass's state.
+  // A feather groom whose frames carry a state (the skin pass lifts feathers, or the coat has layers):
+  // its whole coat, for that state.
   std::unique_ptr<FeatherPipeline> coat;
   std::unique_ptr<Pipeline> guides_only;
   std::string lifts;
-  if (groom.feathers.enabled && groom.feathers.lift) {
+  if (groom.feathers.enabled && (groom.feathers.lift || groom.feathers.layers)) {
     PipelineOptions coat_options = options;
     coat_options.strand_count = -1;
     coat = std::make_unique<FeatherPipeline>(groom, coat_options);
@@ -89,10 +90,10 @@ void run_simulate(const SimulateArgs &args) {
     StrandSet guides;
     io::FeatherLifts state;
     if (coat) {
-      FeatherPipeline::SkinPassFrame grown = coat->skin_pass(frame);
+      FeatherPipeline::StateFrame grown = coat->carried(frame);
       posed = std::move(grown.mesh);
       guides = std::move(grown.stems);
-      state = {frame, coat->coat().ids(), std::move(grown.state.lifts), std::move(grown.state.scales)};
+      state = coat->lifts_record(frame, grown.state);
     } else {
       posed = pipeline.posed_mesh(frame);
       guides = pipeline.guides_at(frame, posed);

@@ -84,39 +84,72 @@ std::vector<feathers::LayerKey> FeatherPipeline::layer_keys() const {
   return coat_->order_keys(base_->rest_mesh(), groom_.feathers, layer_map_);
 }
 
-FeatherPipeline::Frame FeatherPipeline::produce(int frame) {
-  const feathers::SkinPassState *previous = warm_start(frame);
+FeatherPipeline::Frame FeatherPipeline::produce_from(int frame, const feathers::CoatState *previous) {
   Frame result;
   result.frame = frame;
   result.mesh = base_->posed_mesh(frame);
   result.stems = base_->guides_at(frame, result.mesh);
   const MeshQuery query(result.mesh);
   const skin::SkinGrid grid(result.mesh, query);
-  coat_->grow(result.mesh, query, result.stems, result.feathers, &grid, previous);
-  state_ = result.feathers.skin_pass;
+  coat_->grow(result.mesh, query, result.stems, result.feathers, &grid, previous ? &previous->skin_pass : nullptr,
+              previous ? &previous->layers : nullptr);
+  return result;
+}
+
+FeatherPipeline::Frame FeatherPipeline::produce(int frame) {
+  Frame result = produce_from(frame, warm_start(frame));
+  state_ = {result.feathers.skin_pass, result.feathers.layer_state};
   state_frame_ = frame;
   return result;
 }
 
-FeatherPipeline::SkinPassFrame FeatherPipeline::skin_pass_from(int frame, const feathers::SkinPassState *previous) {
-  SkinPassFrame result;
+FeatherPipeline::StateFrame FeatherPipeline::carried_from(int frame, const feathers::CoatState *previous) {
+  StateFrame result;
+  if (coat_->layered()) {
+    // The layering pass turns the vanes of the whole coat.
+    Frame grown = produce_from(frame, previous);
+    result.mesh = std::move(grown.mesh);
+    result.stems = std::move(grown.stems);
+    result.state = {std::move(grown.feathers.skin_pass), std::move(grown.feathers.layer_state)};
+    return result;
+  }
   result.mesh = base_->posed_mesh(frame);
   result.stems = base_->guides_at(frame, result.mesh);
   const MeshQuery query(result.mesh);
-  coat_->skin_pass(result.mesh, query, result.stems, previous, result.state);
+  coat_->skin_pass(result.mesh, query, result.stems, previous ? &previous->skin_pass : nullptr,
+                   result.state.skin_pass);
   return result;
 }
 
-FeatherPipeline::SkinPassFrame FeatherPipeline::skin_pass(int frame) {
-  SkinPassFrame result = skin_pass_from(frame, warm_start(frame));
+FeatherPipeline::StateFrame FeatherPipeline::carried(int frame) {
+  StateFrame result = carried_from(frame, warm_start(frame));
   state_ = result.state;
   state_frame_ = frame;
   return result;
 }
 
+bool FeatherPipeline::carries() const { return groom_.feathers.lift || coat_->layered(); }
+
+io::FeatherLifts FeatherPipeline::lifts_record(int frame, const feathers::CoatState &state) const {
+  io::FeatherLifts lifts;
+  lifts.frame = frame;
+  lifts.ids = coat_->ids();
+  lifts.lifts = state.skin_pass.lifts;
+  lifts.scales = state.skin_pass.scales;
+  if (lifts.lifts.empty()) {
+    // The skin pass lifts nothing: every feather unturned, at its size.
+    lifts.lifts.assign(lifts.ids.size(), 0.0f);
+    lifts.scales.assign(lifts.ids.size(), 1.0f);
+  }
+  lifts.layered = !state.layers.empty();
+  lifts.layer_turns = state.layers.turns;
+  lifts.layer_scales = state.layers.scales;
+  return lifts;
+}
+
 bool FeatherPipeline::cached() const { return base_->dynamic() && !options_.guides_cache.empty(); }
 
-std::optional<feathers::SkinPassState> FeatherPipeline::read_cached_state(int frame) const {
+std::optional<feathers::CoatState> FeatherPipeline::read_cached_state(int frame) const {
   const std::string path = expand_frame_pattern(io::feather_lifts_pattern(options_.guides_cache), frame);
   std::error_code error;
   if (!std::filesystem::exists(path, error) &&
@@ -126,13 +159,24 @@ std::optional<feathers::SkinPassState> FeatherPipeline::read_cached_state(int fr
   if (lifts.frame != frame)
     throw InputError(FileLoc{path, 2}, "frame: expected " + std::to_string(frame) + " (the file's name), got " +
                                            std::to_string(lifts.frame));
+  const bool layered = coat_->layered();
+  if (layered && !lifts.layered)
+    throw InputError(FileLoc{path}, "layers: the file holds the skin pass's state only, and this groom keeps its "
+                                    "feathers in layers (a cache written before the layering pass carried its "
+                                    "state, or of the groom without layers? Write it again with plume simulate)");
   std::unordered_map<uint64_t, size_t> by_id;
   by_id.reserve(lifts.ids.size());
   for (size_t k = 0; k < lifts.ids.size(); ++k) by_id.emplace(lifts.ids[k], k);
   const std::vector<uint64_t> &ids = coat_->ids();
-  feathers::SkinPassState state;
-  state.lifts.resize(ids.size());
-  state.scales.resize(ids.size());
+  feathers::CoatState state;
+  if (groom_.feathers.lift) {
+    state.skin_pass.lifts.resize(ids.size());
+    state.skin_pass.scales.resize(ids.size());
+  }
+  if (layered) {
+    state.layers.turns.resize(ids.size());
+    state.layers.scales.resize(ids.size());
+  }
   for (size_t i = 0; i < ids.size(); ++i) {
     const auto it = by_id.find(ids[i]);
     if (it == by_id.end())
@@ -140,16 +184,23 @@ std::optional<feathers::SkinPassState> FeatherPipeline::read_cached_state(int fr
                                           std::to_string(lifts.ids.size()) + " feathers, the coat " +
                                           std::to_string(ids.size()) + ": a cache of another groom? Write it again "
                                           "with plume simulate)");
-    state.lifts[i] = lifts.lifts[it->second];
-    state.scales[i] = lifts.scales[it->second];
+    const size_t k = it->second;
+    if (groom_.feathers.lift) {
+      state.skin_pass.lifts[i] = lifts.lifts[k];
+      state.skin_pass.scales[i] = lifts.scales[k];
+    }
+    if (layered) {
+      state.layers.turns[i] = lifts.layer_turns[k];
+      state.layers.scales[i] = lifts.layer_scales[k];
+    }
   }
   return state;
 }
 
-const feathers::SkinPassState *FeatherPipeline::warm_start(int frame) {
-  if (!groom_.feathers.lift) return nullptr;
+const feathers::CoatState *FeatherPipeline::warm_start(int frame) {
+  if (!carries()) return nullptr;
   if (cached()) {
-    std::optional<feathers::SkinPassState> state = read_cached_state(frame - 1);
+    std::optional<feathers::CoatState> state = read_cached_state(frame - 1);
     if (!state) return nullptr;
     cached_state_ = std::move(*state);
     return &cached_state_;
@@ -161,19 +212,19 @@ const feathers::SkinPassState *FeatherPipeline::warm_start(int frame) {
   int next = state_frame_ && *state_frame_ < frame && *state_frame_ >= start ? *state_frame_ + 1 : start;
   if (next == start) state_ = {};
   for (; next < frame; ++next) {
-    state_ = skin_pass_from(next, state_.empty() ? nullptr : &state_).state;
+    state_ = carried_from(next, next == start ? nullptr : &state_).state;
     state_frame_ = next;
   }
   return &state_;
 }
 
 void FeatherPipeline::check_frame_inputs(const FrameRange &range) const {
-  if (!groom_.feathers.lift || cached() || range.first <= options_.simulation_start) {
+  if (!carries() || cached() || range.first <= options_.simulation_start) {
     base_->check_frame_inputs(range);
   } else {
     base_->check_frame_inputs(FrameRange{options_.simulation_start, range.last, 1});
   }
-  if (!groom_.feathers.lift || !cached()) return;
+  if (!carries() || !cached()) return;
   for (int64_t i = 0; i < range.count(); ++i) read_cached_state(range.at(i) - 1);
 }
 

@@ -11,6 +11,7 @@
 #include "app/pipeline.h"
 #include "feathers/coat.h"
 #include "groom/groom_desc.h"
+#include "io/feather_lifts.h"
 #include "io/feather_writers.h"
 
 namespace plume {
@@ -36,19 +37,25 @@ class FeatherPipeline {
     StrandSet stems;               // the guide stems at this frame
     feathers::CoatFrame feathers;  // the grown coat
   };
-  /// The whole frame. Frames should be asked for in increasing order: the skin pass starts from the
-  /// frame before (its warm start, Coat::grow), carried from the last frame produced, or replayed
-  /// from options.simulation_start (stateless there), or, with a guide cache, read from the cache's
-  /// lifts file of the frame before (io/feather_lifts.h; none before the cache's first frame).
+  /// The whole frame. Frames should be asked for in increasing order: the skin pass and the layering
+  /// pass start from the frame before (their warm starts, Coat::grow), carried from the last frame
+  /// produced, or replayed from options.simulation_start (stateless there), or, with a guide cache,
+  /// read from the cache's lifts file of the frame before (io/feather_lifts.h; none before the cache's
+  /// first frame).
   Frame produce(int frame);
-  /// The skin pass alone at `frame`, carried as produce() carries it: what plume simulate writes
-  /// beside the guide cache.
-  struct SkinPassFrame {
+  /// What `frame` carries to the next, carried as produce() carries it: what plume simulate writes
+  /// beside the guide cache. The skin pass alone, or, with layers, the whole coat (the layering pass
+  /// needs the vanes).
+  struct StateFrame {
     Mesh mesh;
     StrandSet stems;
-    feathers::SkinPassState state;
+    feathers::CoatState state;
   };
-  SkinPassFrame skin_pass(int frame);
+  StateFrame carried(int frame);
+  /// Whether frames carry a state (the skin pass lifts feathers, or the coat has layers).
+  bool carries() const;
+  /// `state` of `frame` as its lifts file holds it (the coat's feather ids).
+  io::FeatherLifts lifts_record(int frame, const feathers::CoatState &state) const;
   /// Pipeline::check_frame_inputs() over every frame the range reads: with a guide cache, also the
   /// lifts files of the frames before the range's; without one, the frames the skin pass replays
   /// from options.simulation_start. Throws InputError naming the file.
@@ -67,23 +74,26 @@ class FeatherPipeline {
   std::unique_ptr<feathers::Coat> coat_;
   std::vector<float> layer_map_;  // the groom's feathers.layers.map, or empty
 
-  /// Whether the skin pass's state comes from the guide cache's lifts files.
+  /// Whether the carried state comes from the guide cache's lifts files.
   bool cached() const;
   /// The lifts file of `frame` beside the guide cache, in coat order; none when neither it nor the
   /// guide cache's file of `frame` exists (before the cache's first frame). Throws InputError naming
-  /// the file when it is missing beside a cache frame, malformed, of another frame, or lacks a feather.
-  std::optional<feathers::SkinPassState> read_cached_state(int frame) const;
-  /// The skin pass's state at frame - 1 (null at a first frame), replaying the frames between the
-  /// last one carried and `frame` when needed. Call before base_->guides_at(frame): a replay asks
-  /// for earlier frames' stems.
-  const feathers::SkinPassState *warm_start(int frame);
-  /// The skin pass alone at `frame` from `previous` (null: stateless), nothing carried.
-  SkinPassFrame skin_pass_from(int frame, const feathers::SkinPassState *previous);
+  /// the file when it is missing beside a cache frame, malformed, of another frame, lacks a feather,
+  /// or lacks the layering pass's state for a coat with layers.
+  std::optional<feathers::CoatState> read_cached_state(int frame) const;
+  /// The state at frame - 1 (null at a first frame), replaying the frames between the last one
+  /// carried and `frame` when needed. Call before base_->guides_at(frame): a replay asks for earlier
+  /// frames' stems.
+  const feathers::CoatState *warm_start(int frame);
+  /// The whole frame from `previous` (null: stateless), nothing carried.
+  Frame produce_from(int frame, const feathers::CoatState *previous);
+  /// What `frame` carries from `previous` (null: stateless), nothing carried.
+  StateFrame carried_from(int frame, const feathers::CoatState *previous);
 
   PipelineOptions options_;
-  feathers::SkinPassState state_;  // the skin pass at state_frame_
+  feathers::CoatState state_;  // at state_frame_
   std::optional<int> state_frame_;
-  feathers::SkinPassState cached_state_;  // read from the cache for the frame being produced
+  feathers::CoatState cached_state_;  // read from the cache for the frame being produced
 };
 
 }  // namespace plume

@@ -609,6 +609,7 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
            std::span<const float> layer_map)
     : detail_(desc.detail), lift_(desc.lift), clearance_(desc.clearance), falloff_(desc.falloff), layers_(desc.layers) {
   layering_.offset = desc.layer_offset;
+  layering_.fall_back = kFallBackWidths;
   if (stems.size() == 0) throw InputError(desc.loc, "feathers: the guides hold no stems");
   if (desc.key_feathers.empty()) throw InputError(desc.loc, "feathers.key_feathers: expected at least one key feather");
   points_ = std::move(follicles.points);
@@ -741,6 +742,8 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
   }
 
   // The layer order, from which feather covers which at rest.
+  rachis_widths_.resize(n);
+  for (size_t i = 0; i < n; ++i) rachis_widths_[i] = shapes_[i].main.rachis_width;
   if (layers_ && n > 0) {
     const MeshQuery rest_query(rest_mesh);
     CoatFrame rest;
@@ -840,14 +843,17 @@ Eigen::Vector3f Coat::blend_stems(const StemFrame &frames, size_t i, float z) co
 }
 
 void Coat::grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
-                const skin::SkinGrid *skin_grid, const SkinPassState *previous) const {
+                const skin::SkinGrid *skin_grid, const SkinPassState *previous,
+                const LayeringState *previous_layers) const {
   // One grid of the posed skin serves the skin pass and the layering pass.
   std::optional<skin::SkinGrid> own_grid;
-  const bool layered = layers_ && !order_.bottom_up.empty();
-  if (!skin_grid && (lift_ || layered)) skin_grid = &own_grid.emplace(posed, query);
+  if (!skin_grid && (lift_ || layered())) skin_grid = &own_grid.emplace(posed, query);
   grow_feathers(posed, query, stems, previous, r_frame.skin_pass, &r_frame, skin_grid);
   r_frame.layering = {};
-  if (layered) r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame, skin_grid);
+  r_frame.layer_state = {};
+  if (layered())
+    r_frame.layering = lift_layers(order_, ranges(), layering_, &query, r_frame, skin_grid,
+                                   LayeringWarmStart{previous_layers, rachis_widths_}, &r_frame.layer_state);
 }
 
 void Coat::skin_pass(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, const SkinPassState *previous,

@@ -77,6 +77,13 @@ struct SkinPassState {
   bool empty() const { return lifts.empty(); }
 };
 
+/// What a frame carries to the next: the skin pass's state and the layering pass's (empty when the
+/// coat has no layers).
+struct CoatState {
+  SkinPassState skin_pass;
+  LayeringState layers;
+};
+
 /// One frame of a coat, emitter object space: per feather (in coat order) its curves and its vane
 /// meshes (feathers/build.h gives the order within a feather).
 struct CoatFrame {
@@ -90,8 +97,10 @@ struct CoatFrame {
   std::vector<float> scales;
   /// The skin pass's own lifts and sizes (the layering pass's turns and shrinks not included).
   SkinPassState skin_pass;
-  /// What keeping the feathers apart did this frame (zeros when the coat has no layers).
+  /// What keeping the feathers apart did this frame (zeros when the coat has no layers), and the
+  /// layering pass's state, carried to the next frame (empty when the coat has no layers).
   LayeringStats layering;
+  LayeringState layer_state;
 };
 
 /// A coat bound to its rest skin and guide stems. Bind once; grow() every frame (const, parallel,
@@ -130,10 +139,13 @@ class Coat {
   /// toward the smallest such turn by at most kFallBackWidths of its rachis width per frame at its
   /// farthest sample; pushed out of it, the feather moves to the smallest turn that clears when that
   /// is near, else stays while it keeps three quarters of its clearance; docs/feathers.md); null or
-  /// empty at a first frame (each feather takes the smallest turn that clears it). Throws InputError
-  /// when the stems or `previous` do not match the binding.
+  /// empty at a first frame (each feather takes the smallest turn that clears it). `previous_layers`:
+  /// the layering pass's state at the frame before (its warm start, lift_layers), null or empty at a
+  /// first frame. Throws InputError when the stems, `previous` or `previous_layers` do not match the
+  /// binding.
   void grow(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, CoatFrame &r_frame,
-            const skin::SkinGrid *skin_grid = nullptr, const SkinPassState *previous = nullptr) const;
+            const skin::SkinGrid *skin_grid = nullptr, const SkinPassState *previous = nullptr,
+            const LayeringState *previous_layers = nullptr) const;
   /// The skin pass alone (no curves, no vanes, no layering): the state grow() would leave in
   /// r_frame.skin_pass. For frames whose coat is not written (a simulation, skipped frames).
   void skin_pass(const Mesh &posed, const MeshQuery &query, const StrandSet &stems, const SkinPassState *previous,
@@ -150,6 +162,8 @@ class Coat {
                                    std::span<const float> layer_map) const;
   /// The layer order frozen at binding (empty when the coat has no layers).
   const LayerOrder &layer_order() const { return order_; }
+  /// Whether grow() keeps the feathers apart (the groom turns layers on and the coat has feathers).
+  bool layered() const { return layers_ && !order_.bottom_up.empty(); }
   /// Where each feather's output lies in a frame.
   FeatherRanges ranges() const { return {first_point_, first_vertex_, first_triangle_}; }
 
@@ -175,6 +189,7 @@ class Coat {
   std::vector<SurfacePoint> points_;
   std::vector<uint64_t> ids_;
   std::vector<FeatherShape> shapes_;
+  std::vector<float> rachis_widths_;  // per feather, its shape's (the layering pass's warm start's unit)
   std::vector<int32_t> templates_;
   size_t key_count_ = 0;
   std::vector<float> key_weights_;

@@ -32,6 +32,15 @@ using Triangle = std::array<Vec, 3>;
 /// each with a bounding sphere: the first level of the test.
 constexpr int kGroup = 8;
 
+/// A feather whose turn of the frame before no longer clears looks for the nearest turn that does
+/// this many steps of the search either way (0.06 radians) before the search over the whole range:
+/// looking farther made more turns jump on the bird (a turn kept high crowds the feathers above).
+constexpr int kLocalSteps = 3;
+
+/// A shrunk feather whose size of the frame before no longer clears looks for the nearest size that
+/// does by this many steps down (each the warm start's fall-back step) before a bisection from there.
+constexpr int kShrinkSteps = 16;
+
 // Closest distances (Ericson, "Real-Time Collision Detection", 5.1.5; segments: groom/segment_distance.h), squared.
 double point_triangle_squared(const Vec &p, const Triangle &t) {
   const Vec &a = t[0], &b = t[1], &c = t[2];
@@ -356,8 +365,20 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
 }
 
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
-                          const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid) {
+                          const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid,
+                          const LayeringWarmStart &warm, LayeringState *r_state) {
   const size_t n = ranges.size();
+  const LayeringState *previous = warm.previous && !warm.previous->empty() ? warm.previous : nullptr;
+  if (previous && (previous->turns.size() != n || previous->scales.size() != n))
+    throw InputError("feathers: the layering pass's state of the frame before holds " +
+                     std::to_string(previous->turns.size()) + " feathers, expected the coat's " + std::to_string(n));
+  if (previous && warm.rachis_widths.size() != n)
+    throw InternalError("lift_layers: " + std::to_string(warm.rachis_widths.size()) + " rachis widths for " +
+                        std::to_string(n) + " feathers");
+  if (r_state) {
+    r_state->turns.assign(n, 0.0f);
+    r_state->scales.assign(n, 1.0f);
+  }
   LayeringStats stats;
   if (n == 0) return stats;
   std::vector<Vec> roots(n);
@@ -787,13 +808,175 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             }
         return false;
       };
-      // Per step of the search (0 unturned), what is known of it without the test for lower feathers
-      // over it (as conflict's r_clear; -1 unknown): the search for the turn under the fewest reuses it.
-      std::vector<signed char> step_clear(1, -1);
-      if (!conflict(0.0, 1.0, &step_clear[0])) continue;
+      // Where the feather ends: turned by `angle` about the axis (on top of the skin pass's turn), or
+      // shrunk toward its root, unturned, to `scale` of its size.
+      auto turn_by = [&](double angle) {
+        const Eigen::Matrix3f turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix().cast<float>();
+        const Eigen::Vector3f root = r_frame.root_frames[i].origin;
+        for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
+          x = root + turn * (x - root);
+        }
+        for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
+          x = root + turn * (x - root);
+        }
+        r_frame.lifts[i] += float(angle);
+        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+        ++lifted;
+        largest = std::max(largest, float(angle));
+        if (r_state) r_state->turns[i] = float(angle);
+      };
+      auto shrink_to = [&](double size) {
+        const Eigen::Vector3f root = r_frame.root_frames[i].origin;
+        const float scale = float(size);
+        for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
+          x = root + scale * (x - root);
+        }
+        for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
+          x = root + scale * (x - root);
+        }
+        r_frame.scales[i] *= scale;
+        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+        ++unresolved;
+        unordered[i] = 1;
+        if (r_state) r_state->scales[i] = scale;
+      };
+      // A size in [0, cap] at which the feather, unturned, clears, by bisection (12 halvings; whether a
+      // size clears is not monotone in it, so this is not always the largest).
+      auto largest_clear_size = [&](double cap) {
+        gather(false);
+        witness = {};
+        if (cap < 1.0 && !conflict(0.0, cap)) return cap;
+        double lo = 0.0, hi = cap;
+        for (int b = 0; b < 12; ++b) {
+          const double mid = 0.5 * (lo + hi);
+          (conflict(0.0, mid) ? hi : lo) = mid;
+        }
+        return lo;
+      };
+      // The smallest turn in (below, above] that clears, `above` clearing (bisection to 1e-4 radians),
+      // and the largest in [below, above), `below` clearing.
+      auto lowest_clear = [&](double below, double above) {
+        while (above - below > 1e-4) {
+          const double mid = 0.5 * (below + above);
+          (conflict(mid) ? below : above) = mid;
+        }
+        return above;
+      };
+      auto highest_clear = [&](double below, double above) {
+        while (above - below > 1e-4) {
+          const double mid = 0.5 * (below + above);
+          (conflict(mid) ? above : below) = mid;
+        }
+        return below;
+      };
+      auto end_at = [&](double angle) {
+        if (angle > 0.0) turn_by(angle);
+      };
+      // How many lower feathers are over it at `angle`, counted up to `enough` (no more is asked).
+      std::vector<char> over(lower.size());
+      auto under_count = [&](double angle, std::ptrdiff_t enough) {
+        std::fill(over.begin(), over.end(), char(0));
+        const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+        std::ptrdiff_t count = 0;
+        for (size_t k = 0; k < outward.size() && count < enough; ++k) count += under_lower(turn, k, &over);
+        return count;
+      };
       constexpr double kStep = 0.02;  // radians, about 1.1 degrees
+
+      // The warm start (docs/feathers.md, "The layering pass's warm start"): from the turn and size
+      // the feather had at the frame before.
+      double from = -1.0;     // the turn at the frame before, with a warm start
+      bool searched = false;  // whether the warm start tried every step of the range and none cleared
+      if (previous) {
+        // How far the turn may fall back per frame: its vanes' farthest point by fall_back rachis widths.
+        const double fall = double(options.fall_back) * double(warm.rachis_widths[i]) * double(r_frame.scales[i]) /
+                            std::max(mine.extent, 1e-300);
+        const double previous_size = double(previous->scales[i]);
+        if (previous_size < 1.0 && previous_size + fall < 1.0) {
+          // Shrunk at the frame before: unturned, it grows back by at most `fall` of its size, as far as
+          // it clears; where its size of the frame before no longer clears, the largest that does below
+          // it. (Whether a size clears is not monotone in the size: a bisection over [0, cap] may land
+          // far below a size that clears.)
+          const double cap = previous_size + fall;
+          gather(false);
+          witness = {};
+          // As the search's shrink (which comes after no turn took it out from under the lower
+          // feathers): kept clear of their vanes and the skin, not out from under them.
+          if (under_test) {
+            under_test = false;
+            ++left_under;
+          }
+          double size = cap;
+          if (conflict(0.0, cap)) {
+            // The nearest size that clears at or below the one of the frame before: down by steps of
+            // `fall` (up to kShrinkSteps of them), then bisection between the last two.
+            double above = cap, at = previous_size;
+            int k = 0;
+            while (k < kShrinkSteps && at > 0.0 && conflict(0.0, at)) {
+              above = at;
+              at = std::max(previous_size - double(++k) * fall, 0.0);
+            }
+            if (k < kShrinkSteps && !conflict(0.0, at)) {
+              for (int b = 0; b < 12; ++b) {
+                const double mid = 0.5 * (at + above);
+                (conflict(0.0, mid) ? above : at) = mid;
+              }
+              size = at;
+            } else {
+              size = largest_clear_size(at);
+            }
+          }
+          shrink_to(size);
+          continue;
+        }
+        from = std::clamp(double(previous->turns[i]), 0.0, max_angle);
+        if (from > 0.0) {
+          if (!conflict(from)) {
+            // Still clear: down toward the template by at most `fall`, without leaving the turns that clear.
+            const double target = std::max(from - fall, 0.0);
+            end_at(!conflict(target) ? target : lowest_clear(target, from));
+            continue;
+          }
+          // Pushed out: the nearest turn that clears, by steps either way (one up, then one down), up to
+          // kLocalSteps of them; above it the smallest such turn, below it the largest. Where the steps
+          // reach both ends of the range and none clears, no turn does.
+          bool found = false;
+          double last_up = from, last_down = from;
+          for (int s = 1; s <= kLocalSteps && !found && (last_up < max_angle || last_down > 0.0); ++s) {
+            const double up = std::min(from + s * kStep, max_angle), down = std::max(from - s * kStep, 0.0);
+            if (up > last_up) {
+              if (!conflict(up)) {
+                end_at(lowest_clear(last_up, up));
+                found = true;
+                break;
+              }
+              last_up = up;
+            }
+            if (down < last_down) {
+              if (!conflict(down)) {
+                end_at(highest_clear(down, last_down));
+                found = true;
+                break;
+              }
+              last_down = down;
+            }
+          }
+          searched = last_up >= max_angle && last_down <= 0.0;
+          if (found) continue;
+        }
+      }
+
+      // The full search: the smallest turn that clears, by steps from no turn, then bisection. Per step
+      // (0 unturned), what is known of it without the test for lower feathers over it (as conflict's
+      // r_clear; -1 unknown): the search for the turn under the fewest reuses it.
+      std::vector<signed char> step_clear(1, -1);
+      if (!searched && !conflict(0.0, 1.0, &step_clear[0])) continue;
       double below = 0.0, above = -1.0;
-      for (double a = kStep; a < max_angle + kStep; a += kStep) {
+      for (double a = kStep; !searched && a < max_angle + kStep; a += kStep) {
         const double at = std::min(a, max_angle);
         step_clear.push_back(-1);
         if (!conflict(at, 1.0, &step_clear.back())) {
@@ -811,36 +994,40 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         witness = {};
         ++left_under;
         unordered[i] = 1;
-        std::vector<char> over(lower.size());
-        // How many lower feathers are over it at `angle`, counted up to `enough` (no more is asked).
-        auto under_count = [&](double angle, std::ptrdiff_t enough) {
-          std::fill(over.begin(), over.end(), char(0));
-          const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
-          std::ptrdiff_t count = 0;
-          for (size_t k = 0; k < outward.size() && count < enough; ++k) count += under_lower(turn, k, &over);
-          return count;
-        };
+        // With a warm start, the turn of the frame before competes too, when it keeps it clear of the
+        // lower feathers' vanes and the skin: it stays there unless a step within kLocalSteps of it is
+        // under fewer (a step farther away would be a jump).
+        std::ptrdiff_t best = PTRDIFF_MAX;
+        const bool stay = from >= 0.0 && !conflict(from);
+        if (stay) {
+          best = under_count(from, PTRDIFF_MAX);
+          above = from;
+        }
         auto worse = [&](double angle, std::ptrdiff_t bound) {
           return conflict(angle) || under_count(angle, bound + 1) > bound;
         };
-        std::ptrdiff_t best = PTRDIFF_MAX;
-        double previous = 0.0, best_below = 0.0;
+        double previous_step = 0.0, best_below = 0.0;
         size_t step = 0;
         for (double a = 0.0; a < max_angle + kStep; a += kStep, ++step) {
           const double at = std::min(a, max_angle);
           const signed char known_clear = step < step_clear.size() ? step_clear[step] : -1;
-          if (known_clear == 1 || (known_clear == -1 && !conflict(at))) {
+          const bool near = !stay || std::abs(at - from) <= kLocalSteps * kStep;
+          if (near && (known_clear == 1 || (known_clear == -1 && !conflict(at)))) {
             const std::ptrdiff_t count = under_count(at, best);
             if (count < best) {
               best = count;
               above = at;
-              best_below = previous;
+              best_below = previous_step;
             }
           }
-          previous = at;
+          previous_step = at;
           // Every turn clear of the lower feathers is under one at least (the search above found no
           // turn under none): the first under one only is the answer.
-          if (at == max_angle || best == 1) break;
+          if (at == max_angle || best <= 1) break;
+        }
+        if (stay && above == from) {
+          end_at(from);
+          continue;
         }
         if (above > 0.0) {
           below = best_below;
@@ -852,49 +1039,12 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       }
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): unturned, it is shrunk toward its
-        // root until it clears (the largest such size, by bisection), as the skin pass does.
-        gather(false);
-        witness = {};
-        double lo = 0.0, hi = 1.0;
-        for (int b = 0; b < 12; ++b) {
-          const double mid = 0.5 * (lo + hi);
-          (conflict(0.0, mid) ? hi : lo) = mid;
-        }
-        const Eigen::Vector3f root = r_frame.root_frames[i].origin;
-        const float scale = float(lo);
-        for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
-          Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
-          x = root + scale * (x - root);
-        }
-        for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
-          Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
-          x = root + scale * (x - root);
-        }
-        r_frame.scales[i] *= scale;
-        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
-        ++unresolved;
-        unordered[i] = 1;
+        // root until it clears (the largest such size), as the skin pass does.
+        shrink_to(largest_clear_size(1.0));
         continue;
       }
       if (above == 0.0) continue;
-      while (above - below > 1e-4) {
-        const double mid = 0.5 * (below + above);
-        (conflict(mid) ? below : above) = mid;
-      }
-      const Eigen::Matrix3f turn = Eigen::AngleAxisd(above, axis).toRotationMatrix().cast<float>();
-      const Eigen::Vector3f root = r_frame.root_frames[i].origin;
-      for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
-        Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
-        x = root + turn * (x - root);
-      }
-      for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
-        Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
-        x = root + turn * (x - root);
-      }
-      r_frame.lifts[i] += float(above);
-      mine = feather_vanes(r_frame, ranges, i, options.root_disc);
-      ++lifted;
-      largest = std::max(largest, float(above));
+      turn_by(lowest_clear(below, above));
     }
     {
       const std::lock_guard<std::mutex> lock(mutex);

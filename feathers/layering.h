@@ -1,8 +1,8 @@
 // Feathers in layers: an order decided once on the rest pose (which feather's vane covers which
 // feather's root), then, every frame, each feather turned up about its root, from the bottom of the
 // order up, until its vanes keep an offset (relative to its size) from every lower feather's vanes.
-// Nothing is carried from frame to frame: a frame depends on its pose only, so a frame regrown alone
-// is the one of a sequential run, and a feather's lift moves as smoothly as the pose that asks for it.
+// Each feather starts from the turn it had at the frame before (its warm start), so its turn changes
+// little when the body moves little; the state is carried as the skin pass's is.
 #pragma once
 
 #include <Eigen/Core>
@@ -73,6 +73,26 @@ struct LayeringOptions {
   /// feather leaves the skin among the others: they are not kept apart (the checker's root disc,
   /// check/vanes.h, is larger).
   float root_disc = 0.04f;
+  /// With a warm start, how far a turn that still clears falls back toward the template per frame (and
+  /// a shrunk feather grows back): its vanes' farthest point moves by at most this many rachis widths.
+  float fall_back = 0.25f;
+};
+
+/// What the layering pass decided at one frame, per feather in coat order: its turn on top of the skin
+/// pass's (radians, >= 0) and its size (1, or less where the pass shrank it). The next frame's pass
+/// starts from it (lift_layers' warm start).
+struct LayeringState {
+  std::vector<float> turns;
+  std::vector<float> scales;
+  bool empty() const { return turns.empty(); }
+};
+
+/// The layering pass's warm start: the state of the frame before (null or empty: none, a first frame)
+/// and, with one, each feather's rachis width at its full size (feather count entries), the unit of
+/// how far a turn falls back per frame.
+struct LayeringWarmStart {
+  const LayeringState *previous = nullptr;
+  std::span<const float> rachis_widths;
 };
 
 struct LayeringStats {
@@ -101,7 +121,21 @@ struct LayeringStats {
 /// schedule.
 /// `skin` (may be null) is the posed skin: a turn that takes a vane vertex below it is refused too.
 /// `skin_grid` (may be null; then one is built) is the grid of that skin the growth used.
+/// With `warm.previous`, each feather starts from its turn and size there (docs/feathers.md, "The
+/// layering pass's warm start"): a turn that still clears falls back toward no turn by at most
+/// options.fall_back rachis widths at its farthest point, staying among the turns that clear; a turn
+/// that no longer clears moves to the nearest that does within 3 steps of the search (0.06 radians)
+/// either way; a feather no turn takes out from under the lower ones stays at its turn while that
+/// keeps it clear of their vanes and the skin, unless a step of the search leaves it under fewer of
+/// them; a shrunk feather grows back unturned by at most
+/// options.fall_back rachis widths per frame, and where its size no longer clears, takes the nearest
+/// size below that does; otherwise, the search above. Every answer passes the
+/// same tests as the search's, so the promise (no vane within the offset of a lower one, none below
+/// the skin) is the same.
+/// `r_state` (may be null): the state to carry to the next frame.
+/// Throws InputError when `warm.previous` does not hold one entry per feather.
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
-                          const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid = nullptr);
+                          const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid = nullptr,
+                          const LayeringWarmStart &warm = {}, LayeringState *r_state = nullptr);
 
 }  // namespace plume::feathers

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <unordered_set>
@@ -14,7 +15,8 @@ namespace plume::io {
 
 namespace {
 
-constexpr const char *kHeader = "plume feather lifts 1";
+constexpr const char *kHeader = "plume feather lifts 2";
+constexpr const char *kHeaderVersion1 = "plume feather lifts 1";
 constexpr float kPi = 3.14159265358979f;
 
 /// The next line that is not blank or a comment; false at the end.
@@ -52,11 +54,18 @@ std::string feather_lifts_pattern(const std::string &guide_cache_pattern) {
 
 void write_feather_lifts(const std::string &path, const FeatherLifts &lifts) {
   std::string text = std::string(kHeader) + "\nframe " + std::to_string(lifts.frame) + "\nfeathers " +
-                     std::to_string(lifts.ids.size()) + "\n# id lift scale (radians; size, 1 when not shrunk)\n";
-  char line[96];
+                     std::to_string(lifts.ids.size()) + "\nlayers " + (lifts.layered ? "1" : "0") +
+                     (lifts.layered ? "\n# id lift scale layer_turn layer_scale (radians; sizes, 1 when not shrunk)\n"
+                                    : "\n# id lift scale (radians; size, 1 when not shrunk)\n");
+  char line[160];
   for (size_t i = 0; i < lifts.ids.size(); ++i) {
-    std::snprintf(line, sizeof line, "%llu %.9g %.9g\n", (unsigned long long)lifts.ids[i], double(lifts.lifts[i]),
-                  double(lifts.scales[i]));
+    if (lifts.layered)
+      std::snprintf(line, sizeof line, "%llu %.9g %.9g %.9g %.9g\n", (unsigned long long)lifts.ids[i],
+                    double(lifts.lifts[i]), double(lifts.scales[i]), double(lifts.layer_turns[i]),
+                    double(lifts.layer_scales[i]));
+    else
+      std::snprintf(line, sizeof line, "%llu %.9g %.9g\n", (unsigned long long)lifts.ids[i], double(lifts.lifts[i]),
+                    double(lifts.scales[i]));
     text += line;
   }
   AtomicFile file(path);
@@ -77,8 +86,9 @@ FeatherLifts read_feather_lifts(const std::string &path) {
   if (!next_content(cursor, rest))
     throw InputError(FileLoc{path}, "feather lifts: expected \"" + std::string(kHeader) + "\", got an empty file");
   while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
-  if (rest != kHeader)
-    cursor.fail("header: expected \"" + std::string(kHeader) + "\", got " + detail::quoted(rest));
+  if (rest != kHeader && rest != kHeaderVersion1)
+    cursor.fail("header: expected \"" + std::string(kHeader) + "\" (or version 1), got " + detail::quoted(rest));
+  const bool version1 = rest == kHeaderVersion1;
   FeatherLifts lifts;
   const long long frame = keyword_value(cursor, "frame");
   if (frame < -1000000000LL || frame > 1000000000LL) cursor.fail("frame: expected a frame number, got " + std::to_string(frame));
@@ -86,11 +96,21 @@ FeatherLifts read_feather_lifts(const std::string &path) {
   const long long count = keyword_value(cursor, "feathers");
   if (count < 0 || count > 100000000LL)
     cursor.fail("feathers: expected a count in 0..100000000, got " + std::to_string(count));
+  if (!version1) {
+    const long long layers = keyword_value(cursor, "layers");
+    if (layers != 0 && layers != 1) cursor.fail("layers: expected 0 or 1, got " + std::to_string(layers));
+    lifts.layered = layers == 1;
+  }
+  const int columns = lifts.layered ? 5 : 3;
   // No more lines than the text can hold (a line takes at least 6 bytes): a wrong count allocates nothing.
   const size_t expected = std::min(size_t(count), text.size() / 6);
   lifts.ids.reserve(expected);
   lifts.lifts.reserve(expected);
   lifts.scales.reserve(expected);
+  if (lifts.layered) {
+    lifts.layer_turns.reserve(expected);
+    lifts.layer_scales.reserve(expected);
+  }
   std::unordered_set<uint64_t> seen;
   while (next_content(cursor, rest)) {
     const std::string what = "feather " + std::to_string(lifts.ids.size());
@@ -109,8 +129,23 @@ FeatherLifts read_feather_lifts(const std::string &path) {
     const float scale = cursor.to_float(scale_token, what + ": scale");
     if (!(scale >= 0.0f && scale <= 1.0f))
       cursor.fail(scale_token, what + ": scale: expected a size in [0, 1], got " + detail::quoted(scale_token));
+    if (lifts.layered) {
+      const std::string_view turn_token = detail::LineCursor::take_token(rest);
+      const float turn = cursor.to_float(turn_token, what + ": layer_turn");
+      if (!(turn >= 0.0f && turn <= kPi + 1e-5f))
+        cursor.fail(turn_token, what + ": layer_turn: expected radians in [0, pi], got " + detail::quoted(turn_token));
+      const std::string_view size_token = detail::LineCursor::take_token(rest);
+      const float size = cursor.to_float(size_token, what + ": layer_scale");
+      if (!(size >= 0.0f && size <= 1.0f))
+        cursor.fail(size_token, what + ": layer_scale: expected a size in [0, 1], got " + detail::quoted(size_token));
+      lifts.layer_turns.push_back(turn);
+      lifts.layer_scales.push_back(size);
+    }
     if (const std::string_view extra = detail::LineCursor::take_token(rest); !extra.empty())
-      cursor.fail(extra, what + ": expected 3 values (id lift scale), got more: " + detail::quoted(extra));
+      cursor.fail(extra, what + ": expected " + std::to_string(columns) +
+                             (lifts.layered ? " values (id lift scale layer_turn layer_scale)"
+                                            : " values (id lift scale)") +
+                             ", got more: " + detail::quoted(extra));
     lifts.ids.push_back(uint64_t(id));
     lifts.lifts.push_back(lift);
     lifts.scales.push_back(scale);

@@ -1,6 +1,7 @@
-// The feathers' skin pass state of one frame, in a text file beside the guide cache: `plume
-// simulate` writes it for every frame, `plume regrow --guides-cache` reads the frame before the one
-// it grows (the skin pass's warm start), so a frame regrown alone is the frame of a sequential run.
+// The feathers' state of one frame (the skin pass's and, with layers, the layering pass's), in a text
+// file beside the guide cache: `plume simulate` writes it for every frame, `plume regrow
+// --guides-cache` reads the frame before the one it grows (the passes' warm starts), so a frame
+// regrown alone is the frame of a sequential run.
 #pragma once
 
 #include <cstdint>
@@ -10,12 +11,16 @@
 namespace plume::io {
 
 /// Per feather, by its stable id: the turn about its root the skin pass gave it (radians, in
-/// [0, pi]) and its size (in [0, 1]).
+/// [0, pi]) and its size (in [0, 1]); with `layered`, also the layering pass's turn on top of it
+/// (radians, in [0, pi]) and its size (in [0, 1]).
 struct FeatherLifts {
   int frame = 0;
   std::vector<uint64_t> ids;
   std::vector<float> lifts;
   std::vector<float> scales;
+  bool layered = false;
+  std::vector<float> layer_turns;  // empty unless layered
+  std::vector<float> layer_scales;
 };
 
 /// The file pattern beside a guide cache pattern: its name without the extension, then `.lifts`
@@ -23,16 +28,18 @@ struct FeatherLifts {
 std::string feather_lifts_pattern(const std::string &guide_cache_pattern);
 
 /// Writes `lifts` atomically (io/atomic_file.h), every float exactly (9 significant digits):
-///   plume feather lifts 1
+///   plume feather lifts 2
 ///   frame 12
 ///   feathers 4980
-///   <id> <lift> <scale>      (one line per feather)
+///   layers 1                 (0: the three first columns only)
+///   <id> <lift> <scale> <layer turn> <layer scale>      (one line per feather)
 /// Throws InputError naming the file when it cannot be written.
 void write_feather_lifts(const std::string &path, const FeatherLifts &lifts);
 
-/// Reads a file write_feather_lifts() wrote. Throws InputError with file:line and the field for a
-/// missing file, a bad header, frame or count, a malformed, non-finite or out-of-range value, a
-/// repeated id, or a count of lines other than the one announced.
+/// Reads a file write_feather_lifts() wrote, or one of version 1 (no `layers` line, the three first
+/// columns: `layered` false). Throws InputError with file:line and the field for a missing file, a bad
+/// header, frame, count or layers line, a malformed, non-finite or out-of-range value, a repeated id,
+/// or a count of lines other than the one announced.
 FeatherLifts read_feather_lifts(const std::string &path);
 
 }  // namespace plume::io

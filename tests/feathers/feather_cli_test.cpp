@@ -106,7 +106,8 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
   for (int frame = 1; frame <= 5; ++frame) {
     const std::string name = "stems.000" + std::to_string(frame) + ".lifts";
     const std::string one = read_text(scratch / ("cache1/" + name));
-    CHECK(one.rfind("plume feather lifts 1\nframe " + std::to_string(frame) + "\nfeathers ", 0) == 0);
+    CHECK(one.rfind("plume feather lifts 2\nframe " + std::to_string(frame) + "\nfeathers ", 0) == 0);
+    CHECK(one.find("\nlayers 0\n") != std::string::npos);
     CHECK(one == read_text(scratch / ("cache2/" + name)));
   }
   // The lifts differ between frames (the bird moves) and some feathers are lifted.
@@ -149,9 +150,11 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
   const size_t body = valid.find("\n", valid.find("# id")) + 1;
   const size_t second_line = valid.find("\n", body) + 1;
   for (const auto &[text, expected] : std::vector<std::pair<std::string, std::string>>{
-           {"plume feather lifts 2\n", "stems.0003.lifts:1: header"},
+           {"plume feather lifts 3\n", "stems.0003.lifts:1: header"},
+           {"plume feather lifts 2\nframe 3\nfeathers 0\nlayers 2\n", "stems.0003.lifts:4: layers: expected 0 or 1"},
+           {"plume feather lifts 2\nframe 3\nfeathers 1\nlayers 1\n7 0 1\n", "layer_turn"},
            {"plume feather lifts 1\nframe 2\nfeathers 0\n", "stems.0003.lifts:2: frame: expected 3"},
-           {valid.substr(0, body) + "7 nan 1\n" + valid.substr(second_line), ":5:"},
+           {valid.substr(0, body) + "7 nan 1\n" + valid.substr(second_line), ":6:"},
            {valid.substr(0, body) + "7 0.5 2\n" + valid.substr(second_line), "scale"},
            {valid.substr(0, second_line), "expected"},
            {"plume feather lifts 1\nframe 3\nfeathers 99999999\n1 0 1\n", "expected 99999999 feathers, got 1"},
@@ -164,6 +167,16 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
     CHECK(run.err.find(expected) != std::string::npos);
     CHECK(run.err.find("stems.0003.lifts") != std::string::npos);
   }
+  // A file of version 1 (no layers line) reads as before: the same frame.
+  std::string version1 = valid;
+  version1.replace(0, version1.find('\n'), "plume feather lifts 1");
+  const size_t layers_line = version1.find("layers 0\n");
+  REQUIRE(layers_line != std::string::npos);
+  version1.erase(layers_line, 9);
+  std::ofstream(lifts, std::ios::binary) << version1;
+  run = regrow("4", "version1", cache);
+  REQUIRE(run.exit_code == 0);
+  CHECK(read_text(scratch / "version1_vanes.0004.obj") == read_text(scratch / "sequence_vanes.0004.obj"));
   // A groom without feathers: its cache as before, no lifts.
   const std::string hair = write_sintel_groom(scratch, "hair", "dynamics: {substeps: 2}\n");
   run = run_plume("simulate " + quoted(hair) + " --frames 1-2 --cache " + quoted(scratch / "hair/g.####.hair"), scratch);
@@ -171,6 +184,93 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
   CHECK(fs::exists(scratch / "hair/g.0002.hair"));
   CHECK(!fs::exists(scratch / "hair/g.0002.lifts"));
   CHECK(run.out.find("feather lifts") == std::string::npos);
+}
+
+TEST_CASE("with layers, the layering pass's state is carried like the skin pass's: a frame regrown alone, with or "
+          "without the cache, is the frame of a sequential run, for 1 and 2 threads", "[feathers][cli]") {
+  ScratchDir scratch("feather_layers_state");
+  // The bird with 300 feathers (the whole coat, so plume simulate's cache holds this coat's state) in
+  // layers, its files named absolutely.
+  std::string text = read_text(kBird);
+  const std::string bird = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
+  for (const std::string name : {"bird.obj", "anim/bird.####.obj", "stems.obj", "bird.feathers.yaml"}) {
+    size_t at = text.find(" " + name);
+    if (at == std::string::npos) at = text.find("[" + name);
+    REQUIRE(at != std::string::npos);
+    text.replace(at + 1, name.size(), bird + name);
+  }
+  const size_t count = text.find("count: 5000");
+  REQUIRE(count != std::string::npos);
+  text.replace(count, 11, "count: 300");
+  text.replace(text.find("feathers:\n") + 10, 0, "  layers: {enabled: true}\n");
+  const std::string groom = scratch / "layered.groom.yaml";
+  std::ofstream(groom) << text;
+  const auto regrow = [&](const std::string &frames, const std::string &name, const std::string &extra) {
+    const RunResult run = run_plume("regrow " + quoted(groom) + " --frames " + frames + " --no-preview --out " +
+                                        quoted(scratch / (name + ".####.usda")) + " --vanes " +
+                                        quoted(scratch / (name + "_vanes.####.obj")) + extra,
+                                    scratch);
+    INFO(run.err);
+    CHECK(run.exit_code == 0);
+    return run;
+  };
+  const auto same = [&](const std::string &a, const std::string &b) { return read_text(scratch / a) == read_text(scratch / b); };
+  regrow("1-4", "sequence", "");
+  // Alone without a cache: frames 1-3 replayed (the stems simulated, the coat grown and layered).
+  for (const int threads : {1, 2}) {
+    const std::string name = "alone" + std::to_string(threads);
+    regrow("4", name, " --threads " + std::to_string(threads));
+    CHECK(same(name + "_vanes.0004.obj", "sequence_vanes.0004.obj"));
+    CHECK(same(name + ".0004.usda", "sequence.0004.usda"));
+  }
+  // From plume simulate's cache (1 and 2 threads write the same bytes, layers included).
+  for (const int threads : {1, 2}) {
+    const std::string dir = "cache" + std::to_string(threads) + "/";
+    const RunResult run = run_plume("simulate " + quoted(groom) + " --frames 1-4 --threads " + std::to_string(threads) +
+                                        " --cache " + quoted(scratch / (dir + "stems.####.hair")),
+                                    scratch);
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+  }
+  for (int frame = 1; frame <= 4; ++frame) {
+    const std::string name = "stems.000" + std::to_string(frame) + ".lifts";
+    const std::string one = read_text(scratch / ("cache1/" + name));
+    CHECK(one.find("\nlayers 1\n") != std::string::npos);
+    CHECK(one == read_text(scratch / ("cache2/" + name)));
+  }
+  const std::string cache = " --guides-cache " + quoted(scratch / "cache1/stems.####.hair");
+  regrow("1-4", "cached_sequence", cache);
+  for (int frame = 1; frame <= 4; ++frame) {
+    INFO("frame " << frame);
+    const std::string name = "_vanes.000" + std::to_string(frame) + ".obj";
+    CHECK(same("cached_sequence" + name, "sequence" + name));
+  }
+  for (const int threads : {1, 2}) {
+    const std::string name = "cached" + std::to_string(threads);
+    regrow("4", name, cache + " --threads " + std::to_string(threads));
+    CHECK(same(name + "_vanes.0004.obj", "sequence_vanes.0004.obj"));
+  }
+  // A lifts file without the layering pass's state (version 1, or written for the groom without
+  // layers) exits 2 naming the file and the field.
+  const std::string lifts = scratch / "cache1/stems.0003.lifts";
+  const RunResult plain = run_plume("simulate " + quoted(kBird) + " --frames 1-3 --cache " +
+                                        quoted(scratch / "plain/stems.####.hair"),
+                                    scratch);
+  REQUIRE(plain.exit_code == 0);
+  std::string version1 = read_text(scratch / "plain/stems.0003.lifts");
+  version1.replace(0, version1.find('\n'), "plume feather lifts 1");
+  version1.erase(version1.find("layers 0\n"), 9);
+  for (const std::string &bad : {read_text(scratch / "plain/stems.0003.lifts"), version1}) {
+    std::ofstream(lifts, std::ios::binary) << bad;
+    const RunResult run = run_plume("regrow " + quoted(groom) + " --frames 4 --no-preview --out " +
+                                        quoted(scratch / "bad.####.usda") + cache,
+                                    scratch);
+    INFO(run.err);
+    CHECK(run.exit_code == 2);
+    CHECK(run.err.find("stems.0003.lifts") != std::string::npos);
+    CHECK(run.err.find("layers") != std::string::npos);
+    CHECK(!fs::exists(scratch / "bad.0004.usda"));
+  }
 }
 
 TEST_CASE("a feather frame passes plume check, curves and vane meshes", "[feathers][cli]") {

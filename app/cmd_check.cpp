@@ -118,12 +118,17 @@ void print_text(const CheckArgs &args, const CheckedScene &scene, const check::C
     const check::GuideDeviation &guides = report.guide_deviation;
     std::printf("  strands at guide roots%s: %zu", report.guides_before_effects ? " before effects" : "",
                 guides.strands_at_guide_roots);
-    if (guides.strands_at_guide_roots > 0)
+    if (guides.strands_at_guide_roots > guides.near_skin)
       std::printf(", largest deviation from their guide %g (%.3g%% of its length, strand %llu); over %g%%: %zu",
                   guides.largest, 100.0 * guides.largest_relative, (unsigned long long)guides.worst_strand,
                   100.0 * report.guide_deviation_limit, guides.over_limit);
     std::printf("%s%s\n", guides.over_limit_examples.empty() ? "" : "  strands: ",
                 id_list(guides.over_limit_examples).c_str());
+    if (guides.near_skin > 0)
+      std::printf("    of them at guides running into the skin band (%g) or the skin, not held to the limit: %zu, "
+                  "largest deviation %.3g%% (strand %llu)\n",
+                  guides.skin_band, guides.near_skin, 100.0 * guides.near_skin_largest_relative,
+                  (unsigned long long)guides.near_skin_worst_strand);
   } else {
     std::printf("  deviation from guides: not checked (give --guides or --groom)\n");
   }
@@ -295,13 +300,21 @@ void print_json(const CheckArgs &args, const CheckedScene &scene, const check::C
   json.count("strands_at_guide_roots", guides.strands_at_guide_roots);
   json.number("largest_deviation", guides.largest);
   json.number("largest_deviation_percent", 100.0 * guides.largest_relative);
-  if (guides.strands_at_guide_roots > 0)
-    json.count("worst_strand", guides.worst_strand);
-  else
-    json.null("worst_strand");
+  // A strand id, or null when there is no such strand.
+  const auto strand_or_null = [&](const char *name, bool any, uint64_t id) {
+    if (any)
+      json.count(name, id);
+    else
+      json.null(name);
+  };
+  strand_or_null("worst_strand", guides.strands_at_guide_roots > guides.near_skin, guides.worst_strand);
   json.number("limit_percent", 100.0 * report.guide_deviation_limit);
   json.count("over_limit", guides.over_limit);
   json.ids("over_limit_examples", guides.over_limit_examples);
+  json.number("skin_band", guides.skin_band);
+  json.count("near_skin", guides.near_skin);
+  json.number("near_skin_largest_deviation_percent", 100.0 * guides.near_skin_largest_relative);
+  strand_or_null("near_skin_worst_strand", guides.near_skin > 0, guides.near_skin_worst_strand);
   json.close('}');
 
   json.open("requested_roots", '{');
@@ -567,7 +580,7 @@ int check_strand_set(const CheckArgs &args, const std::optional<GroomDesc> &groo
     const std::vector<Eigen::Vector3f> points = io::read_points(args.roots);
     const MeshQuery rest_query(view ? view->rest_mesh : mesh);
     requested.emplace(points.size());
-    for (size_t i = 0; i < points.size(); ++i) (*requested)[i] = rest_query.closest(points[i]);
+    for (size_t i = 0; i < points.size(); ++i) (*requested)[i] = surface_point_below(rest_query, points[i]);
   }
 
   check::CheckInputs inputs;

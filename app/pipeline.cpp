@@ -88,7 +88,7 @@ Roots make_roots(const GroomDesc &groom, const Mesh &rest_mesh, const MeshQuery 
     roots.ids.resize(count);
     roots.arrival.resize(count);
     for (size_t i = 0; i < count; ++i) {
-      roots.points[i] = rest_query.closest(points[i]);
+      roots.points[i] = surface_point_below(rest_query, points[i]);
       roots.ids[i] = i;  // the point's index in the file: stable as long as the file is
       roots.arrival[i] = double(i);  // --strands N keeps the first N points
     }

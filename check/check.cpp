@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "groom/error.h"
+#include "groom/guide_curve.h"
 
 namespace plume::check {
 
@@ -168,9 +169,12 @@ double guide_deviation(std::span<const Vector3f> strand, const Vector3f &guide_s
   return worst;
 }
 
-GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *strand_roots, const Mesh &mesh,
-                                       const Guides &guides, float root_tolerance, double limit, size_t max_examples) {
+GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *strand_roots, const MeshQuery &query,
+                                       const Guides &guides, float root_tolerance, double limit, float skin_band,
+                                       size_t max_examples) {
+  const Mesh &mesh = query.mesh();
   GuideDeviation result;
+  result.skin_band = skin_band;
   const size_t guide_count = guides.strands.strand_count();
   if (guides.roots.size() != guide_count)
     throw InternalError("measure_guide_deviation: " + std::to_string(guides.roots.size()) + " guide roots for " +
@@ -189,23 +193,57 @@ GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *st
       if (guides.strands.points_in(g) > 0 && (guides.strands.points(g).front() - root).norm() <= root_tolerance)
         guide_of[size_t(s)] = int64_t(g);
   }
+  // Each guide as the curve through its points that Plume's growth follows (groom/guide_curve.h),
+  // sampled at 8 points per piece: a strand whose points lie on that curve deviates by nothing,
+  // where it leaves the guide's chords by their sag.
+  std::vector<std::vector<Vector3f>> curves(guide_count);
+  std::vector<uint8_t> used(guide_count, 0), low(guide_count, 0);
+  for (const int64_t g : guide_of)
+    if (g >= 0) used[size_t(g)] = 1;
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int64_t g = 0; g < int64_t(guide_count); ++g) {
+    if (!used[size_t(g)]) continue;
+    const auto points = guides.strands.points(size_t(g));
+    const float tiny = 1e-6f * float(guides.strands.length(size_t(g))) / float(std::max<size_t>(points.size(), 2) - 1);
+    std::vector<CurvePiece> pieces;
+    guide_curve(points, tiny, pieces);
+    curves[size_t(g)] = pieces.empty() ? std::vector<Vector3f>(points.begin(), points.end()) : sample_curve(pieces, 8);
+    // Low: into the skin, or back into the band once risen above it (every guide rooted on the skin
+    // starts in it).
+    bool risen = false;
+    for (size_t j = 1; j < curves[size_t(g)].size() && !low[size_t(g)]; ++j) {
+      const float distance = query.signed_distance(curves[size_t(g)][j]);
+      low[size_t(g)] = distance < 0.0f || (risen && distance < skin_band);
+      risen = risen || distance >= skin_band;
+    }
+  }
   std::vector<double> deviation(size_t(strand_count), -1.0), relative(size_t(strand_count), 0.0);
 #pragma omp parallel for schedule(dynamic, 64)
   for (int64_t s = 0; s < strand_count; ++s) {
     if (guide_of[size_t(s)] < 0) continue;
     const auto points = strands.points(size_t(s));
     double length = 0.0;
-    deviation[size_t(s)] = guide_deviation(points, points.front(), guides.strands.points(size_t(guide_of[size_t(s)])), length);
+    deviation[size_t(s)] = guide_deviation(points, points.front(), curves[size_t(guide_of[size_t(s)])], length);
     relative[size_t(s)] = length > 0.0 ? deviation[size_t(s)] / length : 0.0;
   }
+  size_t held = 0;
   for (size_t s = 0; s < size_t(strand_count); ++s) {
     if (deviation[s] < 0.0) continue;
     ++result.strands_at_guide_roots;
+    if (low[size_t(guide_of[s])]) {
+      if (relative[s] > result.near_skin_largest_relative || result.near_skin == 0) {
+        result.near_skin_largest_relative = relative[s];
+        result.near_skin_worst_strand = id_of(strands, s);
+      }
+      ++result.near_skin;
+      continue;
+    }
+    ++held;
     if (relative[s] > limit) {
       ++result.over_limit;
       if (result.over_limit_examples.size() < max_examples) result.over_limit_examples.push_back(id_of(strands, s));
     }
-    if (relative[s] > result.largest_relative || result.strands_at_guide_roots == 1) {
+    if (relative[s] > result.largest_relative || held == 1) {
       result.largest = deviation[s];
       result.largest_relative = relative[s];
       result.worst_strand = id_of(strands, s);
@@ -302,7 +340,7 @@ Roots roots_of(const StrandSet &strands, const MeshQuery &query) {
   roots.ids.resize(strands.strand_count());
 #pragma omp parallel for schedule(static)
   for (int64_t s = 0; s < int64_t(strands.strand_count()); ++s) {
-    roots.points[size_t(s)] = query.closest(strands.positions[size_t(strands.offsets[size_t(s)])]);
+    roots.points[size_t(s)] = surface_point_below(query, strands.positions[size_t(strands.offsets[size_t(s)])]);
     roots.ids[size_t(s)] = id_of(strands, size_t(s));
   }
   return roots;
@@ -376,8 +414,11 @@ CheckReport check_strands(const StrandSet &strands, const MeshQuery &query, cons
 
   if (inputs.guides && inputs.guides->size() > 0) {
     report.guides_checked = true;
-    report.guide_deviation = measure_guide_deviation(*judged, grown_roots, query.mesh(), *inputs.guides, report.root_tolerance,
-                                                     options.guide_deviation_limit, options.max_examples);
+    // The skin band of the growth (docs/interpolation.md, "The skin"): twice the groom's margin when
+    // the groom is known, else twice --margin.
+    const float band = 2.0f * (inputs.binding ? inputs.binding->skin_margin : options.skin_margin);
+    report.guide_deviation = measure_guide_deviation(*judged, grown_roots, query, *inputs.guides, report.root_tolerance,
+                                                     options.guide_deviation_limit, band, options.max_examples);
   }
 
   if (inputs.requested_roots) {

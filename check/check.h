@@ -68,7 +68,7 @@ struct CheckInputs {
   /// The strands' roots: surface points of the checked mesh, one per strand, in the strands' order.
   /// With roots_grown they are the roots the strands grew from (a groom's, matched by regrowing
   /// them), and guide and requested roots are matched on them exactly; otherwise they are a guess
-  /// (the closest surface points of the first points) that serves the zone check only.
+  /// (the surface points below the first points, surface_point_below()) that serves the zone check only.
   const Roots *roots = nullptr;
   bool roots_grown = false;
   /// The zone check: the partings, and the binding of `roots` with the groom's settings.
@@ -116,6 +116,15 @@ struct GuideDeviation {
   /// Strands over CheckOptions::guide_deviation_limit.
   size_t over_limit = 0;
   std::vector<uint64_t> over_limit_examples;  // strand ids, ascending
+  /// Strands at the roots of guides whose curve, once risen above the skin band (twice the growth's
+  /// skin margin), comes back into it, or goes into the skin: growth keeps strands at the margin
+  /// there, so they leave such a guide where it runs that low, and are not held to the limit (nor in
+  /// largest, worst_strand, over_limit). Their largest deviation, relative to the guide's length,
+  /// and its strand.
+  float skin_band = 0.0f;
+  size_t near_skin = 0;
+  double near_skin_largest_relative = 0.0;
+  uint64_t near_skin_worst_strand = 0;
 };
 
 struct RootCoverage {
@@ -232,9 +241,11 @@ double guide_deviation(std::span<const Eigen::Vector3f> strand, const Eigen::Vec
 /// Strands rooted at a guide root, and their largest deviation from that guide (guide_deviation(),
 /// from the strand's root): a strand at the guide's root (strands_at_roots(), on `mesh`, with
 /// `strand_roots` when known) or whose first point is within `root_tolerance` of the guide's first
-/// point. A deviation over `limit` x the guide's length is counted.
-GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *strand_roots, const Mesh &mesh,
-                                       const Guides &guides, float root_tolerance, double limit, size_t max_examples);
+/// point. A deviation over `limit` x the guide's length is counted, except for strands at guides whose
+/// curve comes back within `skin_band` of `query`'s skin or into it, counted apart (near_skin).
+GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *strand_roots, const MeshQuery &query,
+                                       const Guides &guides, float root_tolerance, double limit, float skin_band,
+                                       size_t max_examples);
 
 /// For each root (surface points of `mesh`), the strand that grows from it, or -1. With
 /// `strand_roots` (the roots the strands grew from, one per strand), the strand whose root lies
@@ -251,7 +262,7 @@ RootCoverage check_requested_roots(const StrandSet &strands, const Roots *strand
                                    const std::vector<SurfacePoint> &requested, float root_tolerance,
                                    size_t max_examples);
 
-/// The surface points of the strands' first points, with the strands' ids: the roots to bind when
+/// The surface points below the strands' first points (surface_point_below()), with the strands' ids: the roots to bind when
 /// checking strands that come from a file.
 Roots roots_of(const StrandSet &strands, const MeshQuery &query);
 

@@ -24,7 +24,7 @@ Guides bind_guides(const MeshQuery &rest_query, StrandSet rest_strands, const st
   check_guide_points(rest_strands, source);
   guides.roots.resize(rest_strands.strand_count());
   for (size_t g = 0; g < rest_strands.strand_count(); ++g)
-    guides.roots[g] = rest_query.closest(rest_strands.points(g)[0]);
+    guides.roots[g] = surface_point_below(rest_query, rest_strands.points(g)[0]);
   guides.strands = std::move(rest_strands);
   return guides;
 }

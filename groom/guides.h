@@ -12,7 +12,8 @@ namespace plume {
 struct Guides {
   /// Rest-pose strands, emitter object space; each has at least 2 points.
   StrandSet strands;
-  /// One per guide: the surface point closest to the guide's first point on the rest mesh.
+  /// One per guide, on the rest mesh: the surface point below the guide's first point along the
+  /// normal (surface_point_below()).
   std::vector<SurfacePoint> roots;
   size_t size() const { return roots.size(); }
 };
@@ -21,7 +22,8 @@ struct Guides {
 /// (groom/limits.h): rest guides, and simulated guides read back from a cache.
 void check_guide_points(const StrandSet &strands, const std::string &source);
 
-/// Binds each strand's first point to the closest surface point of the rest mesh.
+/// Binds each strand's first point to the rest mesh's surface point below it along the normal
+/// (surface_point_below()).
 /// Throws InputError (naming `source`, the guide and the point) if a strand has fewer than 2
 /// points or a point beyond max_coordinate (groom/limits.h).
 Guides bind_guides(const MeshQuery &rest_query, StrandSet rest_strands, const std::string &source);

@@ -179,4 +179,38 @@ float MeshQuery::signed_distance(const Eigen::Vector3f &point, SurfacePoint *r_c
   return side < 0.0f ? -distance : distance;
 }
 
+SurfacePoint surface_point_below(const MeshQuery &query, const Eigen::Vector3f &point) {
+  const Mesh &mesh = query.mesh();
+  SurfacePoint foot = query.closest(point);
+  const Eigen::Vector3f start = surface_position(mesh, foot);
+  const auto across = [&](const SurfacePoint &sp, float &r_height) {
+    const Eigen::Vector3f n = surface_normal(mesh, sp), d = point - surface_position(mesh, sp);
+    r_height = d.dot(n);
+    return Eigen::Vector3f(d - r_height * n);
+  };
+  float height = 0.0f;
+  Eigen::Vector3f miss = across(foot, height);
+  const float first_miss = miss.norm();
+  // Moving the foot by its miss overshoots where the normals turn fast under a high point (by the
+  // factor 1 + height x the normals' rate of turn): a step that does not shrink the miss is halved,
+  // up to 6 times.
+  for (int i = 0; i < 32 && height > 0.0f && miss.norm() > 1e-6f * height; ++i) {
+    bool moved = false;
+    for (float fraction = 1.0f; fraction > 0.01f && !moved; fraction *= 0.5f) {
+      const SurfacePoint next = query.closest(Eigen::Vector3f(surface_position(mesh, foot) + fraction * miss));
+      float next_height = 0.0f;
+      const Eigen::Vector3f next_miss = across(next, next_height);
+      if (next_miss.norm() < miss.norm() && next_height > 0.0f &&
+          (surface_position(mesh, next) - start).norm() <= 4.0f * first_miss) {
+        foot = next;
+        miss = next_miss;
+        height = next_height;
+        moved = true;
+      }
+    }
+    if (!moved) break;
+  }
+  return foot;
+}
+
 }  // namespace plume

@@ -68,4 +68,14 @@ class MeshQuery {
   std::vector<std::pair<uint32_t, uint32_t>> open_edges_;
 };
 
+/// The surface point whose normal line (surface_normal(), along which Plume lifts a strand's root)
+/// passes through `point`, for a point above the skin: the closest point, then moved along the skin
+/// by the part of `point - position` across its normal (or a half, a quarter... of it) while that
+/// part shrinks. The closest point's own line misses `point` wherever the interpolated normal leans
+/// from the face's. The answer stays within 4 times the closest point's miss of it, so it never
+/// moves to another part of the skin; for a point on or below the skin it is the closest point. Guide roots,
+/// roots read from a file and the roots of strands read back are all found this way, so a strand
+/// lifted from a root along its normal finds that root again.
+SurfacePoint surface_point_below(const MeshQuery &query, const Eigen::Vector3f &point);
+
 }  // namespace plume

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "groom/error.h"
+#include "groom/guide_curve.h"
 #include "interp/interpolate.h"
 #include "partings/parting_field.h"
 
@@ -134,6 +135,16 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
   binding.skin_margin = settings.skin_margin >= 0.0f ? settings.skin_margin : default_margin_fraction * binding.length_unit;
   binding.step = step_fraction * binding.length_unit;
   binding.tolerance = tolerance_fraction * binding.length_unit;
+  // Streamline strands follow the guides' curves (groom/guide_curve.h), a little longer than their
+  // polylines where they bend: a strand at a guide's root is as long as its guide's curve, and ends
+  // at the guide's tip.
+  if (settings.method == InterpolationSettings::Method::streamline) {
+    std::vector<CurvePiece> curve;
+    for (size_t g = 0; g < guide_count; ++g) {
+      guide_curve(guides.strands.points(g), 1e-6f * field_cell_fraction * binding.length_unit, curve);
+      guide_lengths[g] = float(curve_length(curve));
+    }
+  }
   const size_t root_count = roots.size();
   binding.guide_ids.assign(root_count * size_t(k), -1);
   binding.weights.assign(root_count * size_t(k), 0.0f);

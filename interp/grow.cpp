@@ -114,7 +114,8 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
     shape.floor = field_floor_fraction * binding.length_unit;
     for (size_t z = 0; z < members.size(); ++z)
       if (!members[z].empty())
-        frame.fields[z] = std::make_unique<GuideField>(guides, members[z], shape, 2.0f * binding.length_unit);
+        frame.fields[z] = std::make_unique<GuideField>(guides, members[z], shape,
+                                                     field_cell_fraction * binding.length_unit);
     return frame;
   }
   const size_t n = size_t(points_per_strand);
@@ -264,14 +265,6 @@ struct FinePolyline {
         r_lower[i] = std::max(lower[segment] - (r_points[i] - a).norm(), lower[segment + 1] - (r_points[i] - b).norm());
     });
   }
-  /// The length of the `count`-point polyline resample_to gives over the first `total` of length.
-  double resampled_length(int count, double total, std::vector<Eigen::Vector3f> &scratch) const {
-    scratch.resize(size_t(count));
-    resample_to(count, total, scratch.data(), nullptr);
-    double length = 0.0;
-    for (int i = 0; i + 1 < count; ++i) length += (scratch[size_t(i) + 1] - scratch[size_t(i)]).norm();
-    return length;
-  }
 };
 
 /// Walks from `from` along unit direction `direction` for `length`, through the skin band: sub-steps
@@ -332,11 +325,10 @@ class PartingAttenuation : public GuideAttenuation {
 struct StrandScratch {
   GuideField::Cache cache;
   FinePolyline fine;
-  std::vector<Eigen::Vector3f> resampled;
 };
 
 /// Grows one streamline strand: steps of the Bogacki-Shampine 3(2) pair through the field bent by
-/// the skin band, from `root` until the fine polyline is longer than `length`, then cut and resampled.
+/// the skin band, from `root` until the fine polyline is `length` long, then resampled.
 /// The step adapts so that each step's error estimate (the distance between the third- and
 /// second-order ends) stays below `tolerance`, or less near a guide (tolerance_per_distance); it is at
 /// most `step`, and near the skin at most the room the distance bound leaves (at least four margins).
@@ -367,9 +359,9 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     return unit_or(bent, last);
   };
   double arc = 0.0;
-  // The strand's length is that of its output polyline, whose chords are shorter than the curve:
-  // the curve is grown somewhat longer, and cut where the resampled polyline has the length.
-  const double grown = 1.1 * double(length);
+  // The curve is grown to the strand's length, then resampled: its output polyline is shorter by its
+  // chords' shortfall, as the guide's own curve resampled to the same points would be.
+  const double grown = double(length);
   const float shortest = 1e-3f * step;
   const int64_t max_steps = int64_t(std::ceil(grown / double(std::min(step, 0.5f * margin)))) * 8 + 64;
   float h = std::min(step, 0.5f * margin);
@@ -418,21 +410,10 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     h = std::min(step, error > 0.0f ? h * std::min(4.0f, 0.9f * std::cbrt(allowed / error)) : 4.0f * h);
   }
   if (arc < double(length)) ++stats.short_strands;
-  // The cut: the curve's length c at which the n-point polyline is `length` long (it grows with c,
-  // a little slower): secant steps from c = length.
-  double cut = std::min(double(length), arc);
-  if (arc > double(length)) {
-    double low = double(length), low_value = fine.resampled_length(n, low, scratch.resampled) - double(length);
-    double high = arc, high_value = fine.resampled_length(n, high, scratch.resampled) - double(length);
-    cut = high_value <= 0.0 ? high : low;
-    for (int iteration = 0; iteration < 4 && low_value < 0.0 && high_value > 0.0; ++iteration) {
-      cut = low - low_value * (high - low) / (high_value - low_value);
-      const double value = fine.resampled_length(n, cut, scratch.resampled) - double(length);
-      if (std::abs(value) <= 1e-6 * double(length)) break;
-      (value < 0.0 ? low : high) = cut;
-      (value < 0.0 ? low_value : high_value) = value;
-    }
-  }
+  // The cut: the curve is as long as the target (the guides' polyline lengths), whatever the point
+  // count written. Cutting where the n-point polyline had that length carried a strand at a guide's
+  // root past the guide's tip by the chords' shortfall when the guide has more points.
+  const double cut = std::min(double(length), arc);
   fine.resample_to(n, cut, r_points, r_lower);
 }
 

@@ -1,5 +1,7 @@
 #include "interp/guide_field.h"
 
+#include "groom/guide_curve.h"
+
 #include <algorithm>
 #include <cstring>
 
@@ -73,42 +75,23 @@ Eigen::Vector3i fit_cells(const Eigen::Vector3f &extent, size_t limit, float &r_
 GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members,
                        const FieldShape &shape, float cell)
     : shape_(shape), cell_(cell) {
-  // Pieces: the guide's distinct points (a point within a millionth of a cell of the previous one is
-  // left out) joined by Hermite cubics. Unit tangents at inner points bisect the two chords meeting
-  // there; at the ends, the inner tangent mirrored about the end chord (exact on a circular arc).
+  // Pieces: the guide's curve (groom/guide_curve.h) through its distinct points (a point within a
+  // millionth of a cell of the previous one is left out).
   const float tiny = 1e-6f * cell;
-  std::vector<Eigen::Vector3f> points, chords, tangents;
+  std::vector<CurvePiece> curve;
   guide_begin_.assign(guides.strand_count(), 0);
   guide_end_.assign(guides.strand_count(), 0);
   for (const int32_t g : members) {
     guide_begin_[size_t(g)] = guide_end_[size_t(g)] = int32_t(pieces_.size());
-    points.clear();
-    for (const Eigen::Vector3f &p : guides.points(size_t(g)))
-      if (points.empty() || (p - points.back()).norm() > tiny) points.push_back(p);
-    const size_t count = points.size();
-    if (count < 2) continue;  // a guide of no length shows no direction
-    chords.resize(count - 1);
-    for (size_t j = 0; j + 1 < count; ++j) chords[j] = (points[j + 1] - points[j]).normalized();
-    tangents.resize(count);
-    for (size_t j = 1; j + 1 < count; ++j) {
-      const Eigen::Vector3f sum = chords[j - 1] + chords[j];
-      tangents[j] = sum.norm() > 1e-6f ? Eigen::Vector3f(sum.normalized()) : chords[j];
-    }
-    auto mirror = [](const Eigen::Vector3f &inner, const Eigen::Vector3f &chord) {
-      const Eigen::Vector3f m = 2.0f * chord.dot(inner) * chord - inner;
-      return m.norm() > 1e-6f ? Eigen::Vector3f(m.normalized()) : chord;
-    };
-    tangents[0] = count > 2 ? mirror(tangents[1], chords[0]) : chords[0];
-    tangents[count - 1] = count > 2 ? mirror(tangents[count - 2], chords[count - 2]) : chords[0];
-    for (size_t j = 0; j + 1 < count; ++j) {
-      const Eigen::Vector3f &p0 = points[j], &p1 = points[j + 1];
+    guide_curve(guides.points(size_t(g)), tiny, curve);
+    for (const CurvePiece &cubic : curve) {
+      const Eigen::Vector3f &p0 = cubic.a, m0 = cubic.b, p1 = cubic.end, m1 = cubic.derivative(1.0f);
       const float length = (p1 - p0).norm();
-      const Eigen::Vector3f m0 = length * tangents[j], m1 = length * tangents[j + 1];
       GuidePiece piece;
-      piece.a = p0;
-      piece.b = m0;
-      piece.c = 3.0f * (p1 - p0) - 2.0f * m0 - m1;
-      piece.d = 2.0f * (p0 - p1) + m0 + m1;
+      piece.a = cubic.a;
+      piece.b = cubic.b;
+      piece.c = cubic.c;
+      piece.d = cubic.d;
       // The Bezier control points p0, p0 + m0/3, p1 - m1/3, p1 hold the piece (convex hull).
       const Eigen::Vector3f control[4] = {p0, p0 + m0 / 3.0f, p1 - m1 / 3.0f, p1};
       piece.centre = 0.25f * (control[0] + control[1] + control[2] + control[3]);

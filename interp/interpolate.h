@@ -86,6 +86,9 @@ inline constexpr float tolerance_per_distance = 1e-3f;
 /// "Where a strand ends early"). Within twice the skin margin the length needed falls linearly to
 /// 0.4 of this on the skin, below the band's lift, so that no strand ends at its root.
 inline constexpr float min_field_length = 0.5f;
+/// The field's grid cell, in length units; a guide point within a millionth of it of the previous
+/// one is left out of the guide's curve.
+inline constexpr float field_cell_fraction = 2.0f;
 
 /// Binds every root to its k nearest guide roots (Euclidean distance on the rest pose, within
 /// settings.radius when > 0; a root with no guide in the radius takes its nearest guide), restricted

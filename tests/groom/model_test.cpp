@@ -2,9 +2,11 @@
 
 #include <Eigen/Geometry>
 #include <map>
+#include <random>
 #include <set>
 
 #include "groom/error.h"
+#include "groom/guide_curve.h"
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
 #include "groom/roots.h"
@@ -187,4 +189,81 @@ TEST_CASE("a hinted closest-point query finds the same point as an unhinted one"
       REQUIRE(d == Approx(full.signed_distance(p)).margin(1e-5));
     }
   }
+}
+
+TEST_CASE("the surface point below a point lies on that point's normal line, where the closest one misses it",
+          "[groom]") {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f), height(0.01f, 0.4f);
+  for (const float scale : {0.01f, 1.0f, 100.0f})
+    for (const int rings : {6, 16}) {
+      // Facets lean from the interpolated normals by up to half a facet's angle. On the coarse
+      // sphere the normals' lines leave gaps above some edges (no surface point's line passes
+      // through such a point), and a few on the finer one: there the miss only has to shrink.
+      const Mesh sphere = transformed(test::make_sphere(1.0f, rings, 2 * rings - 2), Eigen::Affine3f(Eigen::Scaling(scale)));
+      const MeshQuery query(sphere);
+      int closest_missed = 0, exact = 0;
+      double closest_total = 0.0, below_total = 0.0;
+      for (int i = 0; i < 200; ++i) {
+        const Eigen::Vector3f direction = Eigen::Vector3f(unit(random), unit(random), unit(random)).normalized();
+        const Eigen::Vector3f p = scale * (1.0f + height(random)) * direction;
+        const auto miss = [&](const SurfacePoint &sp) {
+          const Eigen::Vector3f d = p - surface_position(sphere, sp), n = surface_normal(sphere, sp);
+          return (d - d.dot(n) * n).norm();
+        };
+        const SurfacePoint below = surface_point_below(query, p), closest = query.closest(p);
+        INFO("scale " << scale << ", rings " << rings << ", point " << i);
+        CHECK(miss(below) <= miss(closest));
+        CHECK((p - surface_position(sphere, below)).dot(surface_normal(sphere, below)) > 0.0f);
+        closest_total += miss(closest);
+        below_total += miss(below);
+        if (miss(closest) > 1e-3f * scale) ++closest_missed;
+        if (miss(below) <= 1e-5f * scale) ++exact;
+      }
+      INFO("scale " << scale << ", rings " << rings << ": " << exact << " of 200 exact; misses " << closest_total
+                    << " -> " << below_total);
+      CHECK(closest_missed > 100);  // scenes where it matters
+      CHECK(exact >= 190);
+      CHECK(below_total < 0.05 * closest_total);
+    }
+  // On or below the skin it is the closest point.
+  const Mesh sphere = test::make_sphere(1.0f, 6, 10);
+  const MeshQuery query(sphere);
+  for (const Eigen::Vector3f &p : {Eigen::Vector3f(0.3f, 0.2f, 0.1f), Eigen::Vector3f(0.0f, 0.0f, 0.0f)}) {
+    const SurfacePoint below = surface_point_below(query, p), closest = query.closest(p);
+    CHECK(below.triangle == closest.triangle);
+    CHECK((surface_position(sphere, below) - surface_position(sphere, closest)).norm() == 0.0f);
+  }
+}
+
+TEST_CASE("a guide's curve passes through its points with continuous tangents, and measures its length",
+          "[groom]") {
+  // A circle's arc sampled at 9 points: the curve's length is the arc's to well within the chords'.
+  std::vector<Eigen::Vector3f> points;
+  const float radius = 2.0f, angle = 1.5f;
+  for (int i = 0; i < 9; ++i) {
+    const float a = angle * float(i) / 8.0f;
+    points.emplace_back(radius * std::cos(a), radius * std::sin(a), 0.0f);
+  }
+  points.insert(points.begin() + 4, points[4]);  // a repeated point is left out
+  std::vector<CurvePiece> pieces;
+  guide_curve(points, 1e-6f, pieces);
+  REQUIRE(pieces.size() == 8);
+  double chords = 0.0;
+  for (size_t j = 0; j < pieces.size(); ++j) {
+    chords += double((pieces[j].end - pieces[j].a).norm());
+    CHECK((pieces[j].at(1.0f) - pieces[j].end).norm() < 1e-5f);
+    if (j + 1 < pieces.size()) {
+      CHECK((pieces[j].end - pieces[j + 1].a).norm() == 0.0f);
+      CHECK(pieces[j].derivative(1.0f).normalized().dot(pieces[j + 1].derivative(0.0f).normalized()) > 1.0f - 1e-5f);
+    }
+  }
+  const double arc = double(radius) * double(angle);
+  CHECK(std::abs(curve_length(pieces) - arc) < 0.05 * (arc - chords));
+  const std::vector<Eigen::Vector3f> samples = sample_curve(pieces, 8);
+  CHECK(samples.size() == 8 * 8 + 1);
+  for (const Eigen::Vector3f &s : samples) CHECK(std::abs(s.norm() - radius) < 1e-3f * radius);
+  // Fewer than two distinct points: no curve.
+  guide_curve(std::vector<Eigen::Vector3f>{points[0], points[0]}, 1e-6f, pieces);
+  CHECK(pieces.empty());
 }

@@ -271,7 +271,7 @@ void GuideField::narrow(const Candidates &from, const Eigen::Vector3f &x, float 
       upper = std::min(upper, (x - p.centre).norm() + p.radius);
     }
   }
-  const float radius = shape_.reach * (upper + valid) + valid;
+  const float radius = shape_.reach * (upper + valid + shape_.floor) + valid;
   r_list.guides.clear();
   r_list.pieces.clear();
   r_list.piece_lower.clear();
@@ -500,14 +500,14 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
     return (all_spans ? distances[size_t(i)] : (x - spans_[size_t(i)].centre).norm()) - spans_[size_t(i)].radius;
   };
   // Within `valid` of x: the nearest guide is nearer than upper + valid, so a guide weighs only if
-  // some piece of it lies within reach * (upper + valid) + valid of x; and a piece counts in its
-  // guide's tangent only within coil_reach times the guide's distance, which is below the guide's
+  // some piece of it lies within reach * (upper + valid + floor) + valid of x; and a piece counts in
+  // its guide's tangent only within coil_reach times the guide's distance, which is below the guide's
   // own bound plus valid. So the list keeps, of the guides near enough, the pieces near enough.
   const auto valid_for = [&](float bound) {
     return valid_asked >= 0.0f ? valid_asked : std::max(0.5f * bound, 0.5f * cell_);
   };
   float valid = valid_for(upper);
-  float radius = shape_.reach * (upper + valid) + valid;
+  float radius = shape_.reach * (upper + valid + shape_.floor) + valid;
   found.clear();
   const Eigen::Vector3i from = cell_of(x - Eigen::Vector3f::Constant(radius));
   const Eigen::Vector3i to = cell_of(x + Eigen::Vector3f::Constant(radius));
@@ -538,7 +538,7 @@ void GuideField::gather(const Eigen::Vector3f &x, float valid_asked, Candidates 
       upper = std::min(upper, (x - balls_[size_t(j)].centre).norm() + balls_[size_t(j)].radius);
   }
   valid = valid_for(upper);
-  radius = shape_.reach * (upper + valid) + valid;
+  radius = shape_.reach * (upper + valid + shape_.floor) + valid;
 
   // Per guide with a span within the radius: its pieces' capsule bounds, span by span, the span of
   // least ball bound first; a span whose ball lies beyond the pieces' radius holds no piece that
@@ -612,7 +612,8 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   const Candidates &candidates = *listed;
 
   // Guide bounds at x from the cache's (1-Lipschitz): the nearest guide is nearer than the smallest
-  // upper bound, and a guide every point of which is farther than reach times that does not weigh.
+  // upper bound, and a guide every point of which is farther than reach times (that plus the floor)
+  // does not weigh.
   // Within a weighing guide, every cached piece's chord distance and lower bound (capsule about its
   // chord) are computed, and the exact distance only to the pieces that can be the nearest.
   // Every listed piece takes at most one slot of `near` (each guide is measured once).
@@ -662,9 +663,9 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     }
     return distance;
   };
-  // Without attenuation a guide weighs nothing beyond reach times the nearest guide's distance, so
-  // the guide of least bound is measured first and its distance tightens the limit: the guides
-  // skipped for it would have had no weight, and the answer is the same to the bit.
+  // Without attenuation a guide weighs nothing beyond reach times (the nearest guide's distance plus
+  // the floor), so the guide of least bound is measured first and its distance tightens the limit:
+  // the guides skipped for it would have had no weight, and the answer is the same to the bit.
   // Its pieces stay first in `near`; its group is put in its place in guide order below.
   const Candidates::Guide *first = nullptr;
   if (!attenuation) {
@@ -673,7 +674,7 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     if (first) upper = std::min(upper, measure(*first));
   }
   const size_t first_count = count;
-  const float guide_limit = shape_.reach * upper;
+  const float guide_limit = shape_.reach * (upper + shape_.floor);
   // The other guides within the limit, their exact distances lanes at a time across the guides:
   // first each guide's piece of least bound, then every piece whose bound is below that distance.
   std::vector<Cache::Pending> &batch = cache.pending;
@@ -739,6 +740,8 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   }
   sample.nearest = nearest;
   const float hit = 1e-6f * cell_;
+  // The floor at x: it grows from 0 on a guide to its full value (FieldShape::floor_slope).
+  const float floor_here = std::min(shape_.floor, shape_.floor_slope * nearest_effective);
   const bool on_guide = nearest <= hit;
   Eigen::Vector3f sum = Eigen::Vector3f::Zero();
   float total = 0.0f;
@@ -746,10 +749,10 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     const size_t begin = group.begin, end = group.end;
     const float distance = group.distance;
     // On a guide: that guide alone (or the guides meeting there). Elsewhere 1/d (effective), faded
-    // out between (reach - 1) and reach times the nearest guide's.
+    // out between (reach - 1) and reach times the nearest guide's plus the floor here.
     const float counted = group.counted;
     const float weight = on_guide ? (distance <= hit ? 1.0f : 0.0f)
-                                  : (counted < INFINITY ? fade(counted / nearest_effective - (shape_.reach - 1.0f)) / counted
+                                  : (counted < INFINITY ? fade(counted / (nearest_effective + floor_here) - (shape_.reach - 1.0f)) / counted
                                                         : 0.0f);
     if (weight > 0.0f) {
       // The guide's tangent: its pieces' chord tangents, each faded as its chord lies farther than

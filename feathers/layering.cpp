@@ -809,18 +809,22 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         return false;
       };
       // Where the feather ends: turned by `angle` about the axis (on top of the skin pass's turn), or
-      // shrunk toward its root, unturned, to `scale` of its size.
-      auto turn_by = [&](double angle) {
-        const Eigen::Matrix3f turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix().cast<float>();
+      // shrunk toward its root, unturned, to `scale` of its size. Both map each curve point and vane
+      // vertex's offset from the root.
+      auto move_about_root = [&](const auto &map) {
         const Eigen::Vector3f root = r_frame.root_frames[i].origin;
         for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
           Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
-          x = root + turn * (x - root);
+          x = root + map(Eigen::Vector3f(x - root));
         }
         for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
           Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
-          x = root + turn * (x - root);
+          x = root + map(Eigen::Vector3f(x - root));
         }
+      };
+      auto turn_by = [&](double angle) {
+        const Eigen::Matrix3f turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix().cast<float>();
+        move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(turn * offset); });
         r_frame.lifts[i] += float(angle);
         mine = feather_vanes(r_frame, ranges, i, options.root_disc);
         ++lifted;
@@ -828,16 +832,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         if (r_state) r_state->turns[i] = float(angle);
       };
       auto shrink_to = [&](double size) {
-        const Eigen::Vector3f root = r_frame.root_frames[i].origin;
         const float scale = float(size);
-        for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
-          Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
-          x = root + scale * (x - root);
-        }
-        for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
-          Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
-          x = root + scale * (x - root);
-        }
+        move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(scale * offset); });
         r_frame.scales[i] *= scale;
         mine = feather_vanes(r_frame, ranges, i, options.root_disc);
         ++unresolved;

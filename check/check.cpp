@@ -414,9 +414,10 @@ CheckReport check_strands(const StrandSet &strands, const MeshQuery &query, cons
 
   if (inputs.guides && inputs.guides->size() > 0) {
     report.guides_checked = true;
-    // The skin band of the growth (docs/interpolation.md, "The skin"): twice the groom's margin when
-    // the groom is known, else twice --margin.
-    const float band = 2.0f * (inputs.binding ? inputs.binding->skin_margin : options.skin_margin);
+    // The skin band of the growth (docs/interpolation.md, "The skin"), from the groom's margin when
+    // the groom is known, else from --margin.
+    const float band =
+        interp::skin_band_margins * (inputs.binding ? inputs.binding->skin_margin : options.skin_margin);
     report.guide_deviation = measure_guide_deviation(*judged, grown_roots, query, *inputs.guides, report.root_tolerance,
                                                      options.guide_deviation_limit, band, options.max_examples);
   }

@@ -199,14 +199,15 @@ class SkinBand {
   Eigen::Vector3f bend(const Eigen::Vector3f &x, const Eigen::Vector3f &v, float &r_lower) {
     bool queried = false;
     SurfacePoint closest;
-    const float distance = prove(x, 2.0f * margin_, queried, closest);
+    const float band = skin_band_margins * margin_;
+    const float distance = prove(x, band, queried, closest);
     r_lower = distance;
-    if (distance >= 2.0f * margin_) return v;
+    if (distance >= band) return v;
     const Eigen::Vector3f offset = x - surface_position(mesh_, closest);
     const float length = offset.norm();
     const Eigen::Vector3f normal = length > tiny_ ? Eigen::Vector3f((distance >= 0.0f ? 1.0f : -1.0f) / length * offset)
                                                   : query_.side_normal(closest);
-    const float keep = fade((distance - margin_) / margin_);  // 1 at m and below, 0 at 2m
+    const float keep = fade((distance - margin_) / (band - margin_));  // 1 at m and below, 0 at the band's top
     const float floor = lift * std::clamp(1.0f - distance / margin_, 0.0f, 1.0f);
     const float along = v.dot(normal);
     const float bent = std::max(along >= 0.0f ? along : (1.0f - keep) * along, floor);
@@ -361,14 +362,13 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   double arc = 0.0;
   // The curve is grown to the strand's length, then resampled: its output polyline is shorter by its
   // chords' shortfall, as the guide's own curve resampled to the same points would be.
-  const double grown = double(length);
   const float shortest = 1e-3f * step;
-  const int64_t max_steps = int64_t(std::ceil(grown / double(std::min(step, 0.5f * margin)))) * 8 + 64;
+  const int64_t max_steps = int64_t(std::ceil(double(length) / double(std::min(step, 0.5f * margin)))) * 8 + 64;
   float h = std::min(step, 0.5f * margin);
   Eigen::Vector3f k1 = velocity(x);
   float nearest_at_x = nearest;
   if (field_slack < 0.0f) ++stats.ended_strands;
-  for (int64_t s = 0; s < max_steps && arc < grown && field_slack >= 0.0f; ++s) {
+  for (int64_t s = 0; s < max_steps && arc < double(length) && field_slack >= 0.0f; ++s) {
     // The error allowed: `tolerance` far from the guides, shrinking in proportion to the nearest
     // guide's distance down to a hundredth of it, where the field turns fastest (its Lipschitz
     // constant grows as 1 / distance) and a strand near a guide must stay with it.
@@ -410,9 +410,10 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
     h = std::min(step, error > 0.0f ? h * std::min(4.0f, 0.9f * std::cbrt(allowed / error)) : 4.0f * h);
   }
   if (arc < double(length)) ++stats.short_strands;
-  // The cut: the curve is as long as the target (the guides' polyline lengths), whatever the point
-  // count written. Cutting where the n-point polyline had that length carried a strand at a guide's
-  // root past the guide's tip by the chords' shortfall when the guide has more points.
+  // The cut: the curve is as long as the target (its guides' curve lengths, Binding::lengths),
+  // whatever the point count written. Cutting where the n-point polyline had that length carried a
+  // strand at a guide's root past the guide's tip by the chords' shortfall when the guide has more
+  // points.
   const double cut = std::min(double(length), arc);
   fine.resample_to(n, cut, r_points, r_lower);
 }

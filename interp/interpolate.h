@@ -86,6 +86,10 @@ inline constexpr float tolerance_per_distance = 1e-3f;
 /// "Where a strand ends early"). Within twice the skin margin the length needed falls linearly to
 /// 0.4 of this on the skin, below the band's lift, so that no strand ends at its root.
 inline constexpr float min_field_length = 0.5f;
+/// The skin band's depth, in skin margins (docs/interpolation.md, "The skin"): streamline growth
+/// takes away the inward part of the field below it, fully at one margin. The checker holds strands
+/// at guide roots to their guide only where the guide stays above it.
+inline constexpr float skin_band_margins = 2.0f;
 /// The field's grid cell, in length units; a guide point within a millionth of it of the previous
 /// one is left out of the guide's curve.
 inline constexpr float field_cell_fraction = 2.0f;

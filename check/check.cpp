@@ -200,11 +200,11 @@ GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *st
   std::vector<uint8_t> used(guide_count, 0), low(guide_count, 0);
   for (const int64_t g : guide_of)
     if (g >= 0) used[size_t(g)] = 1;
+  const float tiny = curve_merge_fraction * float(median_segment_length(guides.strands));
 #pragma omp parallel for schedule(dynamic, 16)
   for (int64_t g = 0; g < int64_t(guide_count); ++g) {
     if (!used[size_t(g)]) continue;
     const auto points = guides.strands.points(size_t(g));
-    const float tiny = 1e-6f * float(guides.strands.length(size_t(g))) / float(std::max<size_t>(points.size(), 2) - 1);
     std::vector<CurvePiece> pieces;
     guide_curve(points, tiny, pieces);
     curves[size_t(g)] = pieces.empty() ? std::vector<Vector3f>(points.begin(), points.end()) : sample_curve(pieces, 8);

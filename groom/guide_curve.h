@@ -18,6 +18,10 @@ struct CurvePiece {
   Eigen::Vector3f derivative(float t) const { return b + t * (2.0f * c + 3.0f * t * d); }
 };
 
+/// Guide points closer to the previous one than this fraction of the groom's length unit (its
+/// median guide segment) are one point of the curve: growth, binding and the checker all use it.
+inline constexpr float curve_merge_fraction = 2e-6f;
+
 /// The curve through `points`: their distinct points (a point within `tiny` of the previous one is
 /// left out) joined by Hermite cubics. Unit tangents at inner points bisect the two chords meeting
 /// there; at the ends, the inner tangent mirrored about the end chord (exact on a circular arc).

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "groom/error.h"
+#include "groom/guide_curve.h"
 #include "interp/guide_field.h"
 #include "interp/interpolate.h"
 #include "partings/parting_field.h"
@@ -326,6 +327,7 @@ class PartingAttenuation : public GuideAttenuation {
 struct StrandScratch {
   GuideField::Cache cache;
   FinePolyline fine;
+  std::vector<CurvePiece> pieces;
 };
 
 /// Grows one streamline strand: steps of the Bogacki-Shampine 3(2) pair through the field bent by
@@ -416,6 +418,37 @@ void grow_streamline(const GuideField &field, PartingAttenuation *partings, cons
   // points.
   const double cut = std::min(double(length), arc);
   fine.resample_to(n, cut, r_points, r_lower);
+}
+
+/// A strand rooted at a guide's root is that guide: the guide's curve (groom/guide_curve.h), which
+/// is an integral curve of the field wherever the skin band leaves the field alone, resampled to
+/// `n` points by arc length over its whole length. Integrating from the root would give the same
+/// curve up to the integration's error, but that error is not small everywhere: where another guide
+/// passes within a few hundredths of a segment, the field turns between the two within that gap and
+/// multiplies a strand's distance from the guide many times over (by about the square of the ratio
+/// of the way along the pass to the gap), and a guide that leaves the skin more flatly than the
+/// band's lift is lifted off near its root and starts the pass already off it. A guide that runs
+/// low (into the skin, or back into the band of skin_band_margins x `margin` once risen above it:
+/// the checker's rule) is not followed here, since there the skin promise wins: returns false and
+/// the strand is grown from the field.
+bool follow_guide(std::span<const Eigen::Vector3f> guide, const MeshQuery &query, float tiny, float margin, int n,
+                  std::vector<CurvePiece> &r_pieces, FinePolyline &r_fine, Eigen::Vector3f *r_points, float *r_lower) {
+  guide_curve(guide, tiny, r_pieces);
+  if (r_pieces.empty()) return false;
+  const std::vector<Eigen::Vector3f> curve = sample_curve(r_pieces, 16);
+  const float band = skin_band_margins * margin;
+  r_fine.clear();
+  bool risen = false;
+  double total = 0.0;
+  for (size_t j = 0; j < curve.size(); ++j) {
+    const float distance = query.signed_distance(curve[j]);
+    if (j > 0 && (distance < 0.0f || (risen && distance < band))) return false;
+    risen = risen || distance >= band;
+    if (j > 0) total += double((curve[j] - curve[j - 1]).norm());
+    r_fine.add(curve[j], std::max(distance, 0.0f));
+  }
+  r_fine.resample_to(n, total, r_points, r_lower);
+  return true;
 }
 
 }  // namespace
@@ -528,9 +561,20 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         else band.start(root_frame.origin, 0.0f, roots.points[size_t(r)].triangle);
       }
 
+      // A root on a guide's root (the binding gave that guide all the weight, and the two surface
+      // points coincide): the strand is the guide itself, where the guide stays out of the skin.
+      int32_t on_guide = -1;
+      if (used == 1 && slots[0].weight == 1.0f &&
+          (frame.origins[size_t(slots[0].guide)] - root_frame.origin).norm() <= 1e-5f * binding.length_unit)
+        on_guide = slots[0].guide;
+
       if (settings.method == InterpolationSettings::Method::streamline) {
         const GuideField *field = frame.fields[size_t(binding.root_zones[size_t(r)])].get();
-        if (field && !field->empty()) {
+        if (field && !field->empty() && on_guide >= 0 &&
+            follow_guide(guides.points(size_t(on_guide)), query, curve_merge_fraction * binding.length_unit, margin, n,
+                         scratch.pieces, scratch.fine, points, lower)) {
+          // the guide's own curve
+        } else if (field && !field->empty()) {
           grow_streamline(*field, attenuation.get(), root, normal, binding.lengths[size_t(r)], binding.step,
                           binding.tolerance, margin, band, scratch, counts, n, points, lower);
         } else {

@@ -350,7 +350,7 @@ CoatView view_coat(const GroomDesc &groom, const std::string &groom_path, const 
   }
   const feathers::Coat &coat = view.pipeline->coat();
   view.rest = view.pipeline->rest_frame();
-  view.order = feathers::layer_order_from_coverage(view.rest, coat.ranges(), view.pipeline->layer_keys());
+  view.order = view.pipeline->layer_order();
   for (size_t i = 0; i < coat.size(); ++i) view.rank.emplace(coat.ids()[i], view.order.rank[i]);
   // The file's vertices must be laid out as the coat's, feather by feather.
   const feathers::FeatherRanges ranges = coat.ranges();

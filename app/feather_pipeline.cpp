@@ -236,6 +236,15 @@ feathers::CoatFrame FeatherPipeline::rest_frame() const {
   return frame;
 }
 
+feathers::LayerOrder FeatherPipeline::layer_order() const {
+  if (coat_->layered()) return coat_->layer_order();
+  const Mesh &rest = base_->rest_mesh();
+  const MeshQuery query(rest);
+  feathers::CoatFrame frame;
+  coat_->grow(rest, query, base_->guides().strands, frame);  // no layers: the coat grown as the order reads it
+  return feathers::layer_order_from_coverage(frame, coat_->ranges(), layer_keys(), &query);
+}
+
 io::FeatherWriteOptions FeatherPipeline::write_options() const {
   io::FeatherWriteOptions options;
   for (const FeatherTemplate &t : groom_.feathers.templates) options.template_names.push_back(t.name);

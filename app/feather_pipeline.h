@@ -65,6 +65,9 @@ class FeatherPipeline {
   /// Per feather, its key in the groom's own layer order (key feathers' `layer`, `layers.map`,
   /// `front`, `rear`), whether or not the groom turns layering on: empty when the groom gives none.
   std::vector<feathers::LayerKey> layer_keys() const;
+  /// The layer order the coat keeps (with layers on) or would keep (off): from the coat grown on the
+  /// rest pose without the layering pass, with the groom's keys.
+  feathers::LayerOrder layer_order() const;
   /// Options for writing this groom's feathers (template names, the OBJ texture coordinates).
   io::FeatherWriteOptions write_options() const;
 

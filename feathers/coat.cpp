@@ -748,7 +748,7 @@ Coat::Coat(const Mesh &rest_mesh, const Guides &stems, const FeatherDesc &desc, 
     const MeshQuery rest_query(rest_mesh);
     CoatFrame rest;
     grow_feathers(rest_mesh, rest_query, stems.strands, nullptr, rest.skin_pass, &rest, nullptr);
-    order_ = layer_order_from_coverage(rest, ranges(), order_keys(rest_mesh, desc, layer_map));
+    order_ = layer_order_from_coverage(rest, ranges(), order_keys(rest_mesh, desc, layer_map), &rest_query);
   }
 }
 

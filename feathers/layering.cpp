@@ -41,6 +41,10 @@ constexpr int kLocalSteps = 3;
 /// does by this many steps down (each the warm start's fall-back step) before a bisection from there.
 constexpr int kShrinkSteps = 16;
 
+/// The checker's root disc (check/vanes.h, OverlapOptions): vertices within this fraction of their
+/// feather's extent from its vane base cast no ray when the order reads which feather lies over which.
+constexpr double kCheckerRootDisc = 0.05;
+
 // Closest distances (Ericson, "Real-Time Collision Detection", 5.1.5; segments: groom/segment_distance.h), squared.
 double point_triangle_squared(const Vec &p, const Triangle &t) {
   const Vec &a = t[0], &b = t[1], &c = t[2];
@@ -269,68 +273,100 @@ std::vector<std::vector<int32_t>> lower_neighbours(const std::vector<Vec> &roots
 }  // namespace
 
 LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges,
-                                     std::span<const LayerKey> keys) {
+                                     std::span<const LayerKey> keys, const MeshQuery *rest_skin) {
   const size_t n = ranges.size();
   if (!keys.empty() && keys.size() != n)
     throw InternalError("layer_order_from_coverage: " + std::to_string(keys.size()) + " keys for " +
                         std::to_string(n) + " feathers");
   std::vector<FeatherVanes> vanes(n);
   std::vector<Vec> roots(n);
-  std::vector<double> extents(n);
+  std::vector<double> extents(n), reaches(n);
 #pragma omp parallel for schedule(dynamic, 16)
   for (int64_t i = 0; i < int64_t(n); ++i) {
     vanes[size_t(i)] = feather_vanes(rest, ranges, size_t(i), 0.0f);
     roots[size_t(i)] = vanes[size_t(i)].root;
     extents[size_t(i)] = vanes[size_t(i)].extent;
+    reaches[size_t(i)] = 2.0 * extents[size_t(i)];
   }
-  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, extents);
-  // covers[i]: the feathers whose roots i's vanes cover (the ray from the root along the skin
-  // normal meets them, Moller-Trumbore).
+  // A vertex of j (within j's extent of its root) meets i's vanes within i's extent of the vertex and
+  // of i's root: the roots lie within twice i's extent plus j's, so within the doubled extents.
+  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, reaches);
+  // Whether the ray from `origin` along the unit `direction` meets feather i's vanes within its extent
+  // (farther than `from`): boxes first, then Moller-Trumbore.
+  const auto meets = [&](const Vec &origin, const Vec &direction, size_t i, double from) {
+    const FeatherVanes &f = vanes[i];
+    const Vec end = origin + f.extent * direction;
+    if (!segment_meets_box(origin, end, f.box)) return false;
+    for (size_t g = 0; g < f.group_boxes.size(); ++g) {
+      if (!segment_meets_box(origin, end, f.group_boxes[g])) continue;
+      const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
+      for (size_t k = g * kGroup; k < group_end; ++k) {
+        const double along = ray_crossing(origin, direction, f.triangles[k]);
+        if (along > from && along <= extents[i]) return true;
+      }
+    }
+    return false;
+  };
+  // covers[i]: the feathers whose roots i's vanes cover (the ray from the root along the skin normal
+  // meets them). over[j]: per feather i met on the way out from a vertex of j's vanes outside its
+  // root disc (along the skin normal at the vertex's closest skin point, as the checker takes it),
+  // how many of j's vertices it is met from: i lies over j there.
   std::vector<std::vector<int32_t>> covers(n);
+  std::vector<std::vector<std::pair<int32_t, double>>> over(n);
 #pragma omp parallel for schedule(dynamic, 16)
   for (int64_t fj = 0; fj < int64_t(n); ++fj) {
     const size_t j = size_t(fj);
     const Vec origin = roots[j], direction = rest.root_frames[j].normal().cast<double>();
     for (const int32_t i : near[j]) {
-      const FeatherVanes &f = vanes[size_t(i)];
-      // Only triangles whose boxes the ray's reach (extent) meets can be hit: boxes first.
-      const Vec end = origin + f.extent * direction;
-      if (!segment_meets_box(origin, end, f.box)) continue;
-      bool hit = false;
-      for (size_t g = 0; g < f.group_boxes.size() && !hit; ++g) {
-        if (!segment_meets_box(origin, end, f.group_boxes[g])) continue;
-        const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
-        for (size_t k = g * kGroup; k < group_end; ++k) {
-          const Triangle &t = f.triangles[k];
-          const Vec e1 = t[1] - t[0], e2 = t[2] - t[0], h = direction.cross(e2);
-          const double det = e1.dot(h);
-          if (std::abs(det) < 1e-300) continue;
-          const Vec s = origin - t[0];
-          const double u = s.dot(h) / det;
-          if (u < 0.0 || u > 1.0) continue;
-          const Vec q = s.cross(e1);
-          const double v = direction.dot(q) / det;
-          if (v < 0.0 || u + v > 1.0) continue;
-          const double along = e2.dot(q) / det;
-          if (along > 0.0 && along <= extents[size_t(i)]) {
-            hit = true;
-            break;
-          }
-        }
-      }
-      if (hit) {
+      if ((roots[size_t(i)] - roots[j]).norm() > extents[size_t(i)] + extents[j]) continue;
+      if (meets(origin, direction, size_t(i), 0.0)) {
 #pragma omp critical(plume_layer_covers)
         covers[size_t(i)].push_back(int32_t(j));
       }
     }
+    if (!rest_skin || near[j].empty()) continue;
+    const int64_t v0 = ranges.first_vertex[j], v1 = ranges.first_vertex[j + 1];
+    if (v0 == v1 || ranges.first_triangle[j] == ranges.first_triangle[j + 1]) continue;
+    const Vec base = rest.vanes.positions[size_t(rest.vanes.triangles[size_t(ranges.first_triangle[j])][0])].cast<double>();
+    double from_base = 0.0;
+    for (int64_t x = v0; x < v1; ++x)
+      from_base = std::max(from_base, (rest.vanes.positions[size_t(x)].cast<double>() - base).norm());
+    const double thickness = 1e-4 * extents[j];
+    std::vector<double> nearest(near[j].size(), 2.0);
+    for (int64_t x = v0; x < v1; ++x) {
+      const Vec p = rest.vanes.positions[size_t(x)].cast<double>();
+      if ((p - base).norm() <= kCheckerRootDisc * from_base) continue;
+      const double from_root = (p - roots[j]).norm() / std::max(extents[j], 1e-300);
+      const Vec out = surface_normal(rest_skin->mesh(), rest_skin->closest(rest.vanes.positions[size_t(x)])).cast<double>();
+      for (size_t c = 0; c < near[j].size(); ++c)
+        if (from_root < nearest[c] && meets(p, out, size_t(near[j][c]), thickness)) nearest[c] = from_root;
+    }
+    for (size_t c = 0; c < near[j].size(); ++c)
+      if (nearest[c] <= 1.0) over[j].emplace_back(near[j][c], nearest[c]);
   }
+  // Where a feather lies over another's vertices and not under it anywhere (nor over its root the
+  // other way), it lies above it. Pairs seen both ways (interleaved, or crossing): the one met
+  // nearer its root lies below (a turn about its root cannot take that part out).
+  for (std::vector<int32_t> &list : covers) std::sort(list.begin(), list.end());
+  std::vector<std::vector<int32_t>> lies_over(n);  // beyond the roots' coverings
+  for (size_t j = 0; j < n; ++j)
+    for (const auto &[i, nearer] : over[j]) {
+      const auto &back = over[size_t(i)];
+      const auto other = std::find_if(back.begin(), back.end(), [&](const auto &e) { return e.first == int32_t(j); });
+      const double against = other == back.end() ? 2.0 : other->second;
+      if (std::binary_search(covers[j].begin(), covers[j].end(), int32_t(i))) continue;  // j covers i's root
+      if (std::binary_search(covers[size_t(i)].begin(), covers[size_t(i)].end(), int32_t(j))) continue;  // kept
+      if (nearer < against || (nearer == against && i > int32_t(j))) lies_over[size_t(i)].push_back(int32_t(j));
+    }
+
   LayerOrder order;
   const LayerKey plain;
   const auto key = [&](size_t i) -> const LayerKey & { return keys.empty() ? plain : keys[i]; };
-  std::vector<std::vector<int32_t>> covered_by(n);
-  std::vector<int32_t> remaining_covers(n);
+  // Per feather, the feathers it lies above (roots' coverings first, then the rest), and how many of
+  // each it still has to wait for.
+  std::vector<std::vector<int32_t>> above(n), covered_by(n);
+  std::vector<int32_t> root_count(n), remaining_roots(n), remaining(n);
   for (size_t i = 0; i < n; ++i) {
-    std::sort(covers[i].begin(), covers[i].end());
     order.coverings += int64_t(covers[i].size());
     // A covering the keys reverse does not count: the covering feather goes below.
     std::erase_if(covers[i], [&](int32_t j) {
@@ -338,29 +374,42 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
       if (reversed) order.overridden.emplace_back(int32_t(i), j);
       return reversed;
     });
-    remaining_covers[i] = int32_t(covers[i].size());
-    for (const int32_t j : covers[i]) covered_by[size_t(j)].push_back(int32_t(i));
+    std::sort(lies_over[i].begin(), lies_over[i].end());
+    std::erase_if(lies_over[i], [&](int32_t j) { return key(i) < key(size_t(j)); });
+    root_count[i] = remaining_roots[i] = int32_t(covers[i].size());
+    above[i] = covers[i];
+    above[i].insert(above[i].end(), lies_over[i].begin(), lies_over[i].end());
+    remaining[i] = int32_t(above[i].size());
+    for (size_t k = 0; k < above[i].size(); ++k) covered_by[size_t(above[i][k])].push_back(int32_t(i));
   }
-  // Next: the smallest key, then the fewest coverings of feathers still to place, then the index.
-  std::set<std::tuple<LayerKey, int32_t, int32_t>> ready;
-  for (size_t i = 0; i < n; ++i) ready.emplace(key(i), remaining_covers[i], int32_t(i));
+  // Next: the smallest key, then the fewest roots' coverings of feathers still to place (a cycle is
+  // broken among the other overlaps first), then the fewest of any, then the index.
+  using Entry = std::tuple<LayerKey, int32_t, int32_t, int32_t>;
+  std::set<Entry> ready;
+  for (size_t i = 0; i < n; ++i) ready.emplace(key(i), remaining_roots[i], remaining[i], int32_t(i));
   std::vector<bool> placed(n, false);
   order.rank.assign(n, -1);
   while (!ready.empty()) {
-    const auto [k, count, i] = *ready.begin();
+    const auto [k, roots_left, count, i] = *ready.begin();
     ready.erase(ready.begin());
     if (count > 0)
-      for (const int32_t j : covers[size_t(i)])
-        if (!placed[size_t(j)]) order.broken.emplace_back(i, j);
+      for (size_t m = 0; m < above[size_t(i)].size(); ++m) {
+        const int32_t j = above[size_t(i)][m];
+        if (placed[size_t(j)]) continue;
+        (int32_t(m) < root_count[size_t(i)] ? order.broken : order.loose).emplace_back(i, j);
+      }
     placed[size_t(i)] = true;
     order.rank[size_t(i)] = int32_t(order.bottom_up.size());
     order.bottom_up.push_back(i);
     for (const int32_t c : covered_by[size_t(i)]) {
       if (placed[size_t(c)]) continue;
-      ready.erase({key(size_t(c)), remaining_covers[size_t(c)], c});
-      ready.emplace(key(size_t(c)), --remaining_covers[size_t(c)], c);
+      const size_t cc = size_t(c);
+      ready.erase({key(cc), remaining_roots[cc], remaining[cc], c});
+      if (std::binary_search(covers[cc].begin(), covers[cc].end(), i)) --remaining_roots[cc];
+      ready.emplace(key(cc), remaining_roots[cc], --remaining[cc], c);
     }
   }
+  std::sort(order.loose.begin(), order.loose.end());
   return order;
 }
 
@@ -853,17 +902,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         }
         return lo;
       };
-      // The smallest turn in (below, above] that clears, `above` clearing (bisection to 1e-4 radians),
-      // and the largest in [below, above), `below` clearing.
-      auto lowest_clear = [&](double below, double above) {
-        while (above - below > 1e-4) {
+      // The smallest turn in (below, above] that clears, `above` clearing (bisection to `tolerance`
+      // radians), and the largest in [below, above), `below` clearing.
+      auto lowest_clear = [&](double below, double above, double tolerance = 1e-4) {
+        while (above - below > tolerance) {
           const double mid = 0.5 * (below + above);
           (conflict(mid) ? below : above) = mid;
         }
         return above;
       };
-      auto highest_clear = [&](double below, double above) {
-        while (above - below > 1e-4) {
+      auto highest_clear = [&](double below, double above, double tolerance = 1e-4) {
+        while (above - below > tolerance) {
           const double mid = 0.5 * (below + above);
           (conflict(mid) ? above : below) = mid;
         }
@@ -892,6 +941,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         const double fall = double(options.fall_back) * double(warm.rachis_widths[i]) * double(r_frame.scales[i]) /
                             std::max(mine.extent, 1e-300);
         const double previous_size = double(previous->scales[i]);
+        // The warm start's bisections stop at a sixteenth of that step (1/64 rachis width at the farthest
+        // point), not at 1e-4 radians: finer moves nothing a frame can see, and took 40% of the pass.
+        const double tolerance = std::max(1e-4, fall / 16.0);
         if (previous_size < 1.0 && previous_size + fall < 1.0) {
           // Shrunk at the frame before: unturned, it grows back by at most `fall` of its size, as far as
           // it clears; where its size of the frame before no longer clears, the largest that does below
@@ -934,7 +986,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (!conflict(from)) {
             // Still clear: down toward the template by at most `fall`, without leaving the turns that clear.
             const double target = std::max(from - fall, 0.0);
-            end_at(!conflict(target) ? target : lowest_clear(target, from));
+            end_at(!conflict(target) ? target : lowest_clear(target, from, tolerance));
             continue;
           }
           // Pushed out: the nearest turn that clears, by steps either way (one up, then one down), up to
@@ -946,7 +998,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             const double up = std::min(from + s * kStep, max_angle), down = std::max(from - s * kStep, 0.0);
             if (up > last_up) {
               if (!conflict(up)) {
-                end_at(lowest_clear(last_up, up));
+                end_at(lowest_clear(last_up, up, tolerance));
                 found = true;
                 break;
               }
@@ -954,7 +1006,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             }
             if (down < last_down) {
               if (!conflict(down)) {
-                end_at(highest_clear(down, last_down));
+                end_at(highest_clear(down, last_down, tolerance));
                 found = true;
                 break;
               }

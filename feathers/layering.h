@@ -50,20 +50,30 @@ struct LayerOrder {
   /// Coverings the given keys reverse (the covering feather has the smaller key, so it lies below),
   /// as (covering, covered) feather indices, ascending.
   std::vector<std::pair<int32_t, int32_t>> overridden;
+  /// Beyond the roots: feather i lying over a vane vertex of j at rest (and not under j nearer its
+  /// own root) puts i above j too. Those the order could not keep (cycles), as (over, under) feather
+  /// indices, ascending.
+  std::vector<std::pair<int32_t, int32_t>> loose;
   int64_t coverings = 0;
 };
 
 /// The order from coverage at rest (`rest`, the coat grown on the rest pose without layering).
-/// Kahn's order, bottom up: the next feather is one whose vanes cover no remaining feather's root
-/// (the smallest index among them); when none is left (a cycle), the remaining feather covering the
-/// fewest remaining roots (then the smallest index) goes next, and its coverings of those roots are
-/// broken (reported in `broken`). Deterministic.
+/// Feather i lies above j when its vanes cover j's root (the ray from the root along its normal meets
+/// them); with `rest_skin` (the rest skin's query), also when i's vanes are met on the way out from a
+/// vane vertex of j outside its root disc (along the skin normal at the vertex's closest skin point,
+/// as the checker takes it) and j's are not met from i's nearer i's root than that vertex is to j's
+/// (of two feathers over each other in places, the one met nearer its root lies below: a turn about
+/// its root cannot take that part out). Kahn's order, bottom up: the next feather is one that lies
+/// above no remaining feather (the smallest index among them); when none is left (a cycle), the
+/// remaining feather covering the fewest remaining roots, then lying above the fewest remaining
+/// feathers, then the smallest index, goes next, and what it had to lie above is broken (the roots'
+/// coverings in `broken`, the others in `loose`). Deterministic.
 /// `keys` (empty, or one per feather): the groom's order. The next feather is then always one of the
 /// smallest key left, and coverage (with the rule above) orders only feathers of equal keys; coverings
 /// the keys reverse do not count (reported in `overridden`). Equal keys everywhere give the order
 /// from coverage alone.
 LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges &ranges,
-                                     std::span<const LayerKey> keys = {});
+                                     std::span<const LayerKey> keys = {}, const MeshQuery *rest_skin = nullptr);
 
 struct LayeringOptions {
   /// The gap kept between a feather's vanes and every lower feather's, as a fraction of the

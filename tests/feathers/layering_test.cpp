@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <set>
 #include <unordered_map>
 
 #include "check/feather_layers.h"
@@ -204,6 +205,42 @@ TEST_CASE("the layer order keeps every covering above the covered feather, but f
   for (const auto &[covering, covered] : order.broken) CHECK(order.rank[size_t(covering)] < order.rank[size_t(covered)]);
   const LayeredBird again(800, kAsShipped);
   CHECK(again.coat->layer_order().bottom_up == order.bottom_up);
+}
+
+TEST_CASE("the layer order agrees with the rest pose away from the roots, as the checker sees it", "[feathers]") {
+  // The checker's rays (check/feather_layers.h, CGAL, from every vane vertex outside the root disc)
+  // on the coat grown at rest without the pass: where one feather lies over another and never under
+  // it, the order puts it above, unless the order names that covering as broken in a cycle. (An
+  // order from the roots' coverings alone left a third of the overlapping pairs against it.)
+  const LayeredBird without(600, kNoLayers), with(600, kAsShipped);
+  const LayerOrder &order = with.coat->layer_order();
+  std::unordered_map<uint64_t, int32_t> index;
+  for (size_t i = 0; i < with.coat->size(); ++i) index.emplace(with.coat->ids()[i], int32_t(i));
+  const MeshQuery query(with.rest);
+  const CoatFrame rest = without.grow(with.rest);
+  const check::VaneOverlaps overlaps =
+      check::vane_overlaps(rest.vanes.positions, rest.vanes.triangles, rest.vanes.triangle_feathers, with.rest, query);
+  std::set<std::pair<uint64_t, uint64_t>> seen;  // (inner, outer)
+  for (const check::Overlap &o : overlaps.over) seen.emplace(o.inner, o.outer);
+  int64_t one_way = 0, against = 0;
+  for (const auto &[inner, outer] : seen) {
+    if (seen.count({outer, inner})) continue;
+    ++one_way;
+    const int32_t i = index.at(outer), j = index.at(inner);
+    if (order.rank[size_t(i)] > order.rank[size_t(j)]) continue;
+    const std::pair<int32_t, int32_t> pair(i, j);
+    const bool broken = std::find(order.broken.begin(), order.broken.end(), pair) != order.broken.end() ||
+                        std::binary_search(order.loose.begin(), order.loose.end(), pair);
+    against += broken ? 0 : 1;
+  }
+  INFO(one_way << " pairs overlapping one way at rest, " << against << " against the order; " << order.broken.size()
+               << " roots' coverings and " << order.loose.size() << " other overlaps broken in cycles");
+  // A few may stand against it where the order's rays and the checker's part: a root's covering the
+  // other way (the checker casts no ray from the root disc), or a way out stopped by the skin (the
+  // checker stops there; the order does not). Measured: 4 of 1,476.
+  CHECK(one_way > 500);
+  CHECK(against * 100 < one_way);
+  CHECK((order.broken.size() + order.loose.size()) * 10 < size_t(one_way));
 }
 
 TEST_CASE("a layered frame is the same to the bit for 1 and 2 threads", "[feathers]") {

@@ -10,9 +10,14 @@
 // - the "oracle": the best least-squares blend of the same k guides that streamline uses
 //   (root-relative, paired by arc length), with weights >= 0 (convex) or any weights summing to 1
 //   (affine): the floor a blend of those guides can reach.
-// Usage: bench_quality [--scale S]                          Sintel (grooms/sintel)
-//        bench_quality [--scale S] GUIDES MESH.obj [NAME]   another hairstyle: its guides (.hair,
-//                                                           .ply, .usda or .obj lines) on its mesh
+// Usage: bench_quality [--detail] [--scale S]                          Sintel (grooms/sintel)
+//        bench_quality [--detail] [--scale S] GUIDES MESH.obj [NAME]   another hairstyle: its guides
+//                                                (.hair, .ply, .usda or .obj lines) on its mesh
+//        bench_quality [--detail] --groom GROOM.yaml     a groom's guides on its mesh, bound with its
+//                                                partings and k (e.g. grooms/sintel_parting); the
+//                                                baseline does not see the partings
+// --detail also prints where the error comes from: each method's mean length error and first-segment
+// angle, and streamline's error when grown to the real strands' own lengths (the shape's error).
 // --scale S multiplies every coordinate by S first (S = 0.01: a groom modelled in centimetres,
 // as if in metres): a method without absolute lengths gives the same errors.
 #include <omp.h>
@@ -25,15 +30,19 @@
 #include <cstdlib>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "groom/guide_curve.h"
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
 #include "check/check.h"
 #include "interp/interpolate.h"
+#include "io/groom_file.h"
 #include "io/obj_mesh.h"
 #include "io/strand_file.h"
+#include "partings/parting_field.h"
 
 using namespace plume;
 
@@ -85,6 +94,31 @@ double mean_error_percent(const StrandSet &grown, const StrandSet &real, int sam
     sum += 100.0 * d / double(samples) / polyline_length(real.points(s));
   }
   return sum / double(real.strand_count());
+}
+
+/// Angle (degrees) between the first segments of two polylines resampled to `samples` points.
+double first_angle_degrees(std::span<const Eigen::Vector3f> a_points, std::span<const Eigen::Vector3f> b_points,
+                           int samples) {
+  const auto a = resample(a_points, samples), b = resample(b_points, samples);
+  const Eigen::Vector3f u = (a[1] - a[0]).normalized(), v = (b[1] - b[0]).normalized();
+  return std::acos(std::clamp(double(u.dot(v)), -1.0, 1.0)) * 180.0 / 3.14159265358979;
+}
+
+/// Where the error of `grown` against `real` comes from, printed on one line: the mean relative
+/// length error, the mean first-segment angle and how many strands turn off by more than 45 degrees.
+void print_decomposition(const char *held, const char *method, const StrandSet &grown, const StrandSet &real,
+                         int samples) {
+  double length_error = 0.0, angle = 0.0;
+  int off = 0;
+  for (size_t s = 0; s < real.strand_count(); ++s) {
+    length_error += std::abs(polyline_length(grown.points(s)) / polyline_length(real.points(s)) - 1.0);
+    const double a = first_angle_degrees(grown.points(s), real.points(s), samples);
+    angle += a;
+    off += a > 45.0;
+  }
+  const double count = double(real.strand_count());
+  std::printf("%-9s %-11s length error %.1f%%, first segment off by %.1f deg (%d strands > 45 deg)\n", held, method,
+              100.0 * length_error / count, angle / count, off);
 }
 
 /// Least-squares weights (summing to 1) of `shapes` for `target`, all paired point by point;
@@ -198,18 +232,45 @@ StrandSet baseline_strands(const Mesh &mesh, const Guides &kept, const Roots &ro
 int main(int argc, char **argv) {
   const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/sintel/";
   float scale = 1.0f;
+  bool detail = false;
+  if (argc >= 2 && std::string(argv[1]) == "--detail") {
+    detail = true;
+    --argc;
+    ++argv;
+  }
   if (argc >= 3 && std::string(argv[1]) == "--scale") {
     scale = std::strtof(argv[2], nullptr);
     argc -= 2;
     argv += 2;
   }
+  std::string groom_path;
+  if (argc == 3 && std::string(argv[1]) == "--groom" && scale == 1.0f) {
+    groom_path = argv[2];
+    argc -= 2;
+    argv += 2;
+  }
   if ((argc != 1 && argc != 3 && argc != 4) || !(scale > 0.0f && scale < 1e6f)) {
-    std::fprintf(stderr, "usage: bench_quality [--scale S in (0, 1e6)] [GUIDES MESH.obj [NAME]]\n");
+    std::fprintf(stderr,
+                 "usage: bench_quality [--detail] [--scale S in (0, 1e6)] [GUIDES MESH.obj [NAME]]\n"
+                 "       bench_quality [--detail] --groom GROOM.yaml\n");
     return 2;
   }
-  const std::string guides_path = argc >= 3 ? argv[1] : folder + "sintel_guides.hair";
-  const std::string mesh_path = argc >= 3 ? argv[2] : folder + "sintel.obj";
-  std::string name = argc == 4 ? argv[3] : argc >= 3 ? guides_path : "Sintel";
+  GroomDesc groom;
+  if (!groom_path.empty()) {
+    try {
+      groom = io::read_groom_file(groom_path);
+    } catch (const std::exception &e) {
+      std::fprintf(stderr, "bench_quality: %s\n", e.what());
+      return 2;
+    }
+  }
+  const std::string guides_path =
+      !groom_path.empty() ? groom.guides_path : argc >= 3 ? argv[1] : folder + "sintel_guides.hair";
+  const std::string mesh_path = !groom_path.empty() ? groom.emitter_path : argc >= 3 ? argv[2] : folder + "sintel.obj";
+  std::string name = !groom_path.empty() ? groom.name + " (with its partings)"
+                     : argc == 4           ? argv[3]
+                     : argc >= 3           ? guides_path
+                                           : "Sintel";
   if (scale != 1.0f) {
     char factor[32];
     std::snprintf(factor, sizeof factor, " (coordinates x %g)", double(scale));
@@ -276,7 +337,14 @@ int main(int argc, char **argv) {
       options.points_per_strand = points;
       StrandSet grown;
       const auto start = std::chrono::steady_clock::now();
-      interp::Binding binding = interp::bind(mesh, kept, roots, settings);
+      // With --groom, the groom's partings (made on the kept guides) and its k.
+      std::unique_ptr<partings::PartingField> parting_field;
+      if (!groom_path.empty()) {
+        settings.k = groom.interpolation.k;
+        parting_field = std::make_unique<partings::PartingField>(mesh, kept, groom.partings);
+      }
+      interp::Binding binding = interp::bind(mesh, kept, roots, settings,
+                                             parting_field && !parting_field->empty() ? parting_field.get() : nullptr);
       interp::grow(binding, mesh, query, roots, kept.strands, options, grown);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::vector<uint64_t> examples;
@@ -284,8 +352,24 @@ int main(int argc, char **argv) {
       const double error = mean_error_percent(grown, real, points);
       std::printf("%-9s %-11s %6zu %7zu %12.2f %10.2f %8.1fms\n", held_out == 0.2 ? "20%" : "40%", method_name, keep,
                   roots.size(), error, 100.0 * double(inside) / double(grown.point_count()), seconds * 1e3);
+      if (detail) print_decomposition(held_out == 0.2 ? "20%" : "40%", method_name, grown, real, points);
+      if (detail && method == Method::streamline) {
+        // The same strands grown to the real strands' own lengths: what is left is the shape's error.
+        interp::Binding true_length = binding;
+        std::vector<CurvePiece> curve;
+        for (size_t s = 0; s < real.strand_count(); ++s) {
+          guide_curve(real.points(s), 1e-6f * interp::field_cell_fraction * binding.length_unit, curve);
+          true_length.lengths[s] = float(curve_length(curve));
+        }
+        StrandSet regrown;
+        interp::grow(true_length, mesh, query, roots, kept.strands, options, regrown);
+        std::printf("%-9s %-11s %6zu %7zu %12.2f   (grown to the real strands' lengths)\n",
+                    held_out == 0.2 ? "20%" : "40%", method_name, keep, roots.size(),
+                    mean_error_percent(regrown, real, points));
+      }
       if (method == Method::streamline) {
         streamline_binding = std::move(binding);
+        streamline_binding.partings = nullptr;  // the parting field is this iteration's
         streamline_error = error;
       }
     }
@@ -298,6 +382,7 @@ int main(int argc, char **argv) {
       const double error = mean_error_percent(grown, real, points);
       std::printf("%-9s %-11s %6zu %7zu %12.2f %10.2f %8.1fms\n", held_out == 0.2 ? "20%" : "40%", "baseline", keep,
                   roots.size(), error, 100.0 * double(inside) / double(grown.point_count()), seconds * 1e3);
+      if (detail) print_decomposition(held_out == 0.2 ? "20%" : "40%", "baseline", grown, real, points);
       std::printf("%-9s streamline / baseline error: %.3f (target <= 0.8)\n", held_out == 0.2 ? "20%" : "40%",
                   streamline_error / error);
     }

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -9,6 +10,7 @@
 #include "groom/guide_curve.h"
 #include "interp/guide_field.h"
 #include "interp/interpolate.h"
+#include "interp/separate.h"
 #include "partings/parting_field.h"
 #include "skin/skin_grid.h"
 #include "skin/skin_guard.h"
@@ -451,6 +453,30 @@ bool follow_guide(std::span<const Eigen::Vector3f> guide, const MeshQuery &query
   return true;
 }
 
+/// Keeps a strand's fine polyline (its exact curve) and the length it was cut at.
+void keep_curve(std::span<const Eigen::Vector3f> fine, float length, std::vector<Eigen::Vector3f> &r_curve,
+                float &r_cut) {
+  r_curve.assign(fine.begin(), fine.end());
+  double arc = 0.0;
+  for (size_t i = 1; i < fine.size(); ++i) arc += double((fine[i] - fine[i - 1]).norm());
+  r_cut = float(std::min(double(length), arc));
+}
+
+/// The checker's default crossing tolerance on these strands: a thousandth of the median length of
+/// their segments of non-zero length (check/check.h).
+float crossing_tolerance(std::span<const Eigen::Vector3f> positions, int n) {
+  std::vector<float> lengths;
+  lengths.reserve(positions.size());
+  for (size_t i = 0; i + 1 < positions.size(); ++i)
+    if ((i + 1) % size_t(n) != 0) {
+      const float length = (positions[i + 1] - positions[i]).norm();
+      if (length > 0.0f) lengths.push_back(length);
+    }
+  if (lengths.empty()) return 0.0f;
+  std::nth_element(lengths.begin(), lengths.begin() + std::ptrdiff_t(lengths.size() / 2), lengths.end());
+  return 1e-3f * lengths[lengths.size() / 2];
+}
+
 }  // namespace
 
 GrowStats &GrowStats::operator+=(const GrowStats &other) {
@@ -510,6 +536,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const int64_t root_count = int64_t(roots.size());
   GrowStats stats;
   bool finite = true;
+  // Streamline: each strand's exact curve (its fine polyline and cut), for the separation pass.
+  const bool streamline = settings.method == InterpolationSettings::Method::streamline;
+  std::vector<std::vector<Eigen::Vector3f>> fine_curves(streamline && options.separate ? roots.size() : 0);
+  std::vector<float> cuts(fine_curves.size(), 0.0f);
 #pragma omp parallel reduction(&& : finite)
   {
     GrowStats counts;  // this thread's
@@ -573,16 +603,22 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         if (field && !field->empty() && on_guide >= 0 &&
             follow_guide(guides.points(size_t(on_guide)), query, curve_merge_fraction * binding.length_unit, margin, n,
                          scratch.pieces, scratch.fine, points, lower)) {
-          // the guide's own curve
+          // the guide's own curve, which is also its exact curve for the separation pass
+          if (!fine_curves.empty())
+            keep_curve(scratch.fine.points, std::numeric_limits<float>::max(), fine_curves[size_t(r)], cuts[size_t(r)]);
         } else if (field && !field->empty()) {
           grow_streamline(*field, attenuation.get(), root, normal, binding.lengths[size_t(r)], binding.step,
                           binding.tolerance, margin, band, scratch, counts, n, points, lower);
+          if (!fine_curves.empty())
+            keep_curve(scratch.fine.points, binding.lengths[size_t(r)], fine_curves[size_t(r)], cuts[size_t(r)]);
         } else {
           // A zone whose guides have no length: the strand rises along the normal.
           points[0] = root;
           lower[0] = band.lower_bound(root);
           for (int i = 1; i < n; ++i)
             points[i] = walk(points[i - 1], normal, binding.lengths[size_t(r)] / float(n - 1), margin, band, counts, lower[i]);
+          if (!fine_curves.empty())
+            keep_curve(std::span<const Eigen::Vector3f>(points, size_t(n)), INFINITY, fine_curves[size_t(r)], cuts[size_t(r)]);
         }
       } else if (settings.method == InterpolationSettings::Method::fur) {
         // Segment j: weighted length and weighted direction of the carried guides' segments j; a
@@ -635,8 +671,33 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     stats += counts;
   }
 
-  if (options.r_stats) *options.r_stats = stats;
   if (!finite) throw InternalError("grow: a strand point is not finite");
+
+  // The separation pass: the exact curves never meet, the written polylines may where the field
+  // brings neighbours closer than the chords' sag; their points are moved apart, each to its curve's
+  // side (interp/separate.h).
+  if (streamline && options.separate && root_count > 1) {
+    ExactCurves curves;
+    curves.offsets.reserve(fine_curves.size() + 1);
+    curves.offsets.push_back(0);
+    for (const std::vector<Eigen::Vector3f> &curve : fine_curves) {
+      curves.points.insert(curves.points.end(), curve.begin(), curve.end());
+      curves.offsets.push_back(curves.points.size());
+    }
+    fine_curves = {};
+    curves.cuts = std::move(cuts);
+    const SeparationStats separation =
+        separate_strands(r_strands.positions, n, curves, crossing_tolerance(r_strands.positions, n), margin, mesh, skin_grid,
+                         clearance);
+    stats.separated_pairs = separation.pairs_found;
+    stats.unseparated_pairs = separation.pairs_left;
+    stats.separation_points_moved = separation.points_moved;
+    stats.separation_sweeps = separation.sweeps;
+    stats.separation_largest_move = separation.largest_move;
+    for (const Eigen::Vector3f &p : r_strands.positions)
+      if (!p.allFinite()) throw InternalError("grow: a separated strand point is not finite");
+  }
+  if (options.r_stats) *options.r_stats = stats;
 }
 
 }  // namespace plume::interp

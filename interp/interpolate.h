@@ -114,6 +114,12 @@ struct GrowStats {
   int64_t halved_steps = 0;  // steps retried at half length because they ended inside the skin
   int64_t short_strands = 0; // strands that stalled before their length (the field vanished)
   int64_t ended_strands = 0; // of those, strands ended where the bent field was below min_field_length
+  // Streamline's separation pass (interp/separate.h), over the whole grow() call:
+  int64_t separated_pairs = 0;    // segment pairs of different strands found too near at first
+  int64_t unseparated_pairs = 0;  // segment pairs still within the checker's default tolerance after it
+  int64_t separation_points_moved = 0;
+  int separation_sweeps = 0;
+  float separation_largest_move = 0.0f;  // scene units
 
   /// "4.02 field evaluations per step, 0.31 skin queries per step; 0 steps halved, 0 strands short".
   std::string summary() const;
@@ -130,6 +136,11 @@ struct GrowOptions {
   bool with_widths = true;
   /// When set, growth fills it.
   GrowStats *r_stats = nullptr;
+  /// Streamline: move written points apart where the polylines of neighbouring strands meet
+  /// (interp/separate.h). Off by default: with it, a strand's written points depend (by at most
+  /// the pass's largest move) on the strands grown with it, so a proxy is no longer an exact subset
+  /// of a larger run (docs/interpolation.md, "What is guaranteed").
+  bool separate = false;
 };
 
 /// Grows every root for one frame with binding.settings.method:

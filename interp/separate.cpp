@@ -1,0 +1,425 @@
+#include "interp/separate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "groom/mesh_query.h"
+#include "skin/skin_grid.h"
+
+namespace plume::interp {
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+
+/// Closest points of segments [p0, p1] and [q0, q1]: parameters r_s, r_t in [0, 1] (Ericson,
+/// Real-Time Collision Detection, 5.1.9), in double.
+void closest_on_segments(const Vec &p0, const Vec &p1, const Vec &q0, const Vec &q1, double &r_s, double &r_t) {
+  const Vec d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 0.0 && e <= 0.0) {
+    r_s = r_t = 0.0;
+    return;
+  }
+  if (a <= 0.0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 0.0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  r_s = s;
+  r_t = t;
+}
+
+Vec to_d(const Eigen::Vector3f &v) { return v.cast<double>(); }
+
+/// The written strands and their exact curves, with the state of the pass.
+class Separator {
+ public:
+  Separator(std::span<Eigen::Vector3f> positions, int n, const ExactCurves &curves, float tolerance, float margin,
+            const Mesh &mesh, const skin::SkinGrid &skin_grid, std::span<float> lower)
+      : mesh_(mesh), positions_(positions), n_(n), curves_(curves), tolerance_(tolerance), margin_(margin), grid_(skin_grid),
+        lower_(lower), original_(positions.begin(), positions.end()),
+        largest_move_(separation_largest_move / 1e-3f * tolerance) {
+    strand_count_ = positions.size() / size_t(n);
+    // Each curve's arc lengths, for the windows round a meeting.
+    arcs_.resize(curves.points.size());
+    for (size_t c = 0; c < strand_count_; ++c) {
+      float arc = 0.0f;
+      for (size_t p = curves.offsets[c]; p < curves.offsets[c + 1]; ++p) {
+        if (p > curves.offsets[c]) arc += (curves.points[p] - curves.points[p - 1]).norm();
+        arcs_[p] = arc;
+      }
+    }
+    // The floor of each point's signed distance is the margin, or half its bound when growth left it
+    // nearer (a root climbing out, a strand ended at the skin): never inside the skin.
+    moved_.assign(strand_count_, 0);
+    floor_.resize(lower.size());
+    for (size_t k = 0; k < lower.size(); ++k) floor_[k] = lower[k] >= margin ? margin : 0.5f * lower[k];
+  }
+
+  /// Of `candidates`, the pairs nearer than `distance` at an angle above the pass's; `r_near` holds
+  /// one flag per candidate, measured again only where a strand of the pair moved since it was
+  /// (`moved`, one flag per strand; all when empty).
+  std::vector<std::pair<uint32_t, uint32_t>> near_among(const std::vector<std::pair<uint32_t, uint32_t>> &candidates,
+                                                        float distance, const std::vector<uint8_t> &moved,
+                                                        std::vector<uint8_t> &r_near) const {
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+    r_near.resize(candidates.size(), 0);
+    const size_t per_strand = size_t(n_ - 1);
+#pragma omp parallel for schedule(static, 1024)
+    for (int64_t c = 0; c < int64_t(candidates.size()); ++c) {
+      const auto &[u, v] = candidates[size_t(c)];
+      if (moved.empty() || moved[u / per_strand] || moved[v / per_strand])
+        r_near[size_t(c)] = near(u, v, distance, cos_angle);
+    }
+    std::vector<std::pair<uint32_t, uint32_t>> pairs;
+    for (size_t c = 0; c < candidates.size(); ++c)
+      if (r_near[c]) pairs.push_back(candidates[c]);
+    return pairs;
+  }
+  /// One flag per strand, set when a point of it has moved since the last call.
+  std::vector<uint8_t> take_moved() {
+    std::vector<uint8_t> moved(strand_count_, 0);
+    std::swap(moved, moved_);
+    moved_.assign(strand_count_, 0);
+    return moved;
+  }
+  /// The most a point may move in all.
+  float largest_allowed() const { return largest_move_; }
+
+  /// Segment pairs (indices strand * (n - 1) + j, first < second) of different strands nearer than
+  /// `distance` (at an angle above the pass's unless `any_angle`), sorted.
+  std::vector<std::pair<uint32_t, uint32_t>> near_pairs(float distance, bool any_angle = false) const {
+    const size_t segments = strand_count_ * size_t(n_ - 1);
+    // A uniform grid of cells about a median segment wide; each segment listed in the cells its box
+    // (grown by `distance`) meets, in index order.
+    std::vector<float> lengths;
+    lengths.reserve(segments);
+    for (size_t u = 0; u < segments; ++u) lengths.push_back((end(u, 1) - end(u, 0)).norm());
+    std::nth_element(lengths.begin(), lengths.begin() + segments / 2, lengths.end());
+    const float cell = std::max(lengths[segments / 2], 1e-20f) + 2.0f * distance;
+    auto key = [](int64_t x, int64_t y, int64_t z) {
+      return uint64_t(x & 0x1fffff) | (uint64_t(y & 0x1fffff) << 21) | (uint64_t(z & 0x1fffff) << 42);
+    };
+    auto box = [&](size_t u, Eigen::Array3i &r_lo, Eigen::Array3i &r_hi) {
+      const Eigen::Vector3f a = end(u, 0), b = end(u, 1);
+      r_lo = ((a.cwiseMin(b).array() - distance) / cell).floor().cast<int>();
+      r_hi = ((a.cwiseMax(b).array() + distance) / cell).floor().cast<int>();
+    };
+    std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
+    for (size_t u = 0; u < segments; ++u) {
+      Eigen::Array3i lo, hi;
+      box(u, lo, hi);
+      for (int x = lo.x(); x <= hi.x(); ++x)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+          for (int z = lo.z(); z <= hi.z(); ++z) cells[key(x, y, z)].push_back(uint32_t(u));
+    }
+    const float cos_angle = any_angle ? 2.0f : std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+    std::vector<std::pair<uint32_t, uint32_t>> pairs;
+#pragma omp parallel
+    {
+      std::vector<std::pair<uint32_t, uint32_t>> mine;
+#pragma omp for schedule(dynamic, 256)
+      for (int64_t su = 0; su < int64_t(segments); ++su) {
+        const size_t u = size_t(su);
+        Eigen::Array3i lo, hi;
+        box(u, lo, hi);
+        const size_t strand = u / size_t(n_ - 1);
+        for (int x = lo.x(); x <= hi.x(); ++x)
+          for (int y = lo.y(); y <= hi.y(); ++y)
+            for (int z = lo.z(); z <= hi.z(); ++z) {
+              const auto found = cells.find(key(x, y, z));
+              for (const uint32_t v : found->second) {
+                if (v <= u || v / size_t(n_ - 1) == strand) continue;
+                // Counted in the first cell both boxes share, so each pair once.
+                Eigen::Array3i vlo, vhi;
+                box(v, vlo, vhi);
+                const Eigen::Array3i first = lo.max(vlo);
+                if ((first > hi.min(vhi)).any() || first.x() != x || first.y() != y || first.z() != z) continue;
+                if (near(u, v, distance, cos_angle)) mine.emplace_back(uint32_t(u), v);
+              }
+            }
+      }
+#pragma omp critical(plume_separate_pairs)
+      pairs.insert(pairs.end(), mine.begin(), mine.end());
+    }
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
+  }
+
+  /// Pushes the pair's segments apart (one step of a sweep); returns false when nothing could move.
+  bool push(uint32_t u, uint32_t v, SeparationStats &stats) {
+    const float detect = separation_detect * tolerance_, goal = double(separation_goal) * tolerance_;
+    const Vec a0 = to_d(end(u, 0)), a1 = to_d(end(u, 1)), b0 = to_d(end(v, 0)), b1 = to_d(end(v, 1));
+    double s = 0.0, t = 0.0;
+    closest_on_segments(a0, a1, b0, b1, s, t);
+    const Vec pa = a0 + s * (a1 - a0), pb = b0 + t * (b1 - b0);
+    if ((pa - pb).norm() >= double(detect)) return true;
+    const size_t sa = u / size_t(n_ - 1), sb = v / size_t(n_ - 1);
+    const int ia = int(u % size_t(n_ - 1)), ib = int(v % size_t(n_ - 1));
+    // The exact side: from b's curve to a's, at their closest points within a segment of the meeting.
+    Vec e = exact_side(sa, (double(ia) + s) / double(n_ - 1), sb, (double(ib) + t) / double(n_ - 1));
+    if (e.squaredNorm() == 0.0) {
+      ++stats.undecided;
+      e = pa - pb;
+      // The segments meet: perpendicular to a's segment, in the plane of the two (a planar scene's).
+      if (e.squaredNorm() == 0.0) e = (a1 - a0).cross(b1 - b0).cross(a1 - a0);
+      if (e.squaredNorm() == 0.0) return false;
+      e.normalize();
+    }
+    // Skew segments are pushed along their common normal, on e's side (where e lies nearly in the
+    // segments' plane the curves are beside each other there, and either side of the plane parts
+    // the segments); segments in one plane with e (a planar scene) along e itself, which keeps them
+    // in it.
+    // The direction is chosen at the pair's first push and kept: the segments turn a little as they
+    // move, and a side taken from a nearly planar e could otherwise flip back and forth.
+    const uint64_t key = (uint64_t(u) << 32) | v;
+    auto chosen = directions_.find(key);
+    if (chosen == directions_.end()) {
+      const Vec ua = (a1 - a0).normalized(), ub = (b1 - b0).normalized();
+      const Vec normal = ua.cross(ub);
+      const bool skew = normal.norm() > 1e-3 && std::abs(e.dot(normal.normalized())) >= 1e-3;
+      chosen = directions_.emplace(key, Chosen{skew ? Vec(e.dot(normal) >= 0.0 ? normal.normalized()
+                                                                               : Vec(-normal.normalized()))
+                                                    : e,
+                                               skew}).first;
+    }
+    const Vec direction = chosen->second.direction;
+    const bool skew = chosen->second.skew;
+    // Each of the four vertices' wanted move along `direction` (a's positive, b's negative): its share
+    // of the deficit at the closest points, spread over the segment's two ends (least squares; a root
+    // stays, its other end takes the whole), and in the planar case at least its own deficit where it
+    // lies on the wrong side of the other segment, near it.
+    const double deficit = goal - (pa - pb).dot(direction);
+    double want[4] = {0.0, 0.0, 0.0, 0.0};  // a0, a1, b0, b1
+    auto spread = [&](double share, double param, bool fixed_first, double *r_ends) {
+      if (fixed_first) {
+        r_ends[1] = share / std::max(param, 0.25);
+        return;
+      }
+      const double w0 = 1.0 - param, w1 = param, norm = w0 * w0 + w1 * w1;
+      r_ends[0] = share * w0 / norm;
+      r_ends[1] = share * w1 / norm;
+    };
+    if (deficit > 0.0) {
+      spread(0.5 * deficit, s, ia == 0, want);
+      spread(0.5 * deficit, t, ib == 0, want + 2);
+    }
+    if (!skew) {
+      const Vec ends[4] = {a0, a1, b0, b1};
+      for (int k = 0; k < 4; ++k) {
+        const bool of_a = k < 2;
+        const Vec &q0 = of_a ? b0 : a0, &q1 = of_a ? b1 : a1;
+        const double length = (q1 - q0).norm();
+        double r = 0.0, unused = 0.0;
+        closest_on_segments(q0, q1, ends[k], ends[k], r, unused);
+        const Vec offset = ends[k] - (q0 + r * (q1 - q0));
+        if (offset.norm() > 0.5 * length) continue;
+        const double side = (of_a ? 1.0 : -1.0) * offset.dot(direction);
+        if (side < goal) want[k] = std::max(want[k], goal - side);
+      }
+    }
+    // Move what can move; what one strand cannot take, the other takes.
+    const size_t index[4] = {sa * size_t(n_) + size_t(ia), sa * size_t(n_) + size_t(ia) + 1,
+                             sb * size_t(n_) + size_t(ib), sb * size_t(n_) + size_t(ib) + 1};
+    const bool is_root[4] = {ia == 0, false, ib == 0, false};
+    bool moved_any = false;
+    double left_a = 0.0, left_b = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      if (want[k] <= 0.0 || is_root[k]) continue;
+      const double sign = k < 2 ? 1.0 : -1.0;
+      if (try_move(index[k], (sign * want[k] * direction).cast<float>(), stats)) moved_any = true;
+      else (k < 2 ? left_a : left_b) = std::max(k < 2 ? left_a : left_b, want[k]);
+    }
+    // The other strand's far end takes what could not move (its nearer end when that is not a root).
+    if (left_a > 0.0) {
+      const int k = (t >= 0.5 || ib == 0) ? 3 : 2;
+      moved_any = try_move(index[k], (-left_a * direction).cast<float>(), stats) || moved_any;
+    }
+    if (left_b > 0.0) {
+      const int k = (s >= 0.5 || ia == 0) ? 1 : 0;
+      moved_any = try_move(index[k], (left_b * direction).cast<float>(), stats) || moved_any;
+    }
+    return moved_any;
+  }
+
+  float largest_move() const {
+    float largest = 0.0f;
+    for (size_t k = 0; k < original_.size(); ++k) largest = std::max(largest, (positions_[k] - original_[k]).norm());
+    return largest;
+  }
+  int64_t points_moved() const {
+    int64_t count = 0;
+    for (size_t k = 0; k < original_.size(); ++k) count += positions_[k] != original_[k];
+    return count;
+  }
+
+ private:
+  Eigen::Vector3f point(size_t strand, int j) const { return positions_[strand * size_t(n_) + size_t(j)]; }
+  /// End `which` (0, 1) of segment u.
+  Eigen::Vector3f end(size_t u, int which) const {
+    const size_t strand = u / size_t(n_ - 1);
+    return point(strand, int(u % size_t(n_ - 1)) + which);
+  }
+
+  bool near(size_t u, size_t v, float distance, float cos_angle) const {
+    const Vec a0 = to_d(end(u, 0)), a1 = to_d(end(u, 1)), b0 = to_d(end(v, 0)), b1 = to_d(end(v, 1));
+    double s = 0.0, t = 0.0;
+    closest_on_segments(a0, a1, b0, b1, s, t);
+    if (((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm() >= double(distance)) return false;
+    const Vec da = a1 - a0, db = b1 - b0;
+    const double la = da.norm(), lb = db.norm();
+    if (la <= 0.0 || lb <= 0.0) return true;
+    // Segments in one plane with each other (a planar scene's) count at any angle: in the plane,
+    // near-parallel segments that meet still pass through each other.
+    if (da.cross(db).dot(b0 - a0) == 0.0 && da.cross(db).dot(b1 - a0) == 0.0) return true;
+    return std::abs(da.dot(db)) / (la * lb) < double(cos_angle);
+  }
+
+  /// The unit direction from curve b's point nearest curve a to curve a's point nearest curve b,
+  /// within one written segment of arc length round the fractions fa and fb of their lengths; zero
+  /// when the curves themselves meet there.
+  Vec exact_side(size_t a, double fa, size_t b, double fb) const {
+    size_t a_first = 0, a_last = 0, b_first = 0, b_last = 0;
+    window(a, fa, a_first, a_last);
+    window(b, fb, b_first, b_last);
+    double best = INFINITY;
+    Vec side = Vec::Zero();
+    for (size_t p = a_first; p < a_last; ++p)
+      for (size_t q = b_first; q < b_last; ++q) {
+        const Vec p0 = to_d(curves_.points[p]), p1 = to_d(curves_.points[p + 1]);
+        const Vec q0 = to_d(curves_.points[q]), q1 = to_d(curves_.points[q + 1]);
+        double s = 0.0, t = 0.0;
+        closest_on_segments(p0, p1, q0, q1, s, t);
+        const Vec d = (p0 + s * (p1 - p0)) - (q0 + t * (q1 - q0));
+        if (d.squaredNorm() < best) {
+          best = d.squaredNorm();
+          side = d;
+        }
+      }
+    if (!(best > 0.0)) return Vec::Zero();
+    return side.normalized();
+  }
+  /// The fine segments [r_first, r_last) of curve c within one written segment of its fraction f.
+  void window(size_t c, double f, size_t &r_first, size_t &r_last) const {
+    const size_t first = curves_.offsets[c], last = curves_.offsets[c + 1];
+    if (last - first < 2) {
+      r_first = r_last = first;
+      return;
+    }
+    const double cut = curves_.cuts[c], reach = cut / double(n_ - 1);
+    const double from = f * cut - reach, to = f * cut + reach;
+    const auto begin = arcs_.begin() + std::ptrdiff_t(first), stop = arcs_.begin() + std::ptrdiff_t(last);
+    size_t lo = size_t(std::upper_bound(begin, stop, float(from)) - arcs_.begin());
+    size_t hi = size_t(std::lower_bound(begin, stop, float(to)) - arcs_.begin());
+    lo = lo > first ? lo - 1 : first;
+    hi = std::min(hi, last - 1);
+    if (hi <= lo) hi = std::min(lo + 1, last - 1), lo = hi - 1;
+    r_first = lo;
+    r_last = hi;
+  }
+
+  /// Moves point k by `delta` when it stays within its strand's largest move and out of the skin
+  /// by its floor; its bound follows.
+  bool try_move(size_t k, const Eigen::Vector3f &delta, SeparationStats &stats) {
+    const Eigen::Vector3f to = positions_[k] + delta;
+    if (!to.allFinite() || (to - original_[k]).norm() > largest_move_) return false;
+    float bound = lower_[k] - delta.norm();
+    if (bound >= floor_[k]) {
+      moved_[k / size_t(n_)] = 1;
+      positions_[k] = to;
+      lower_[k] = bound;
+      return true;
+    }
+    // Near the skin: queried; a move into it loses its part along the skin's normal there (the
+    // offset from the closest point) and rises by a tenth of its length, so that a strand lying
+    // along the skin slides along it.
+    SurfacePoint closest;
+    const Eigen::Vector3f from = positions_[k];
+    const float at = grid_.signed_distance(from, -1, closest);
+    const Eigen::Vector3f offset = from - surface_position(mesh_, closest);
+    Eigen::Vector3f moved = delta;
+    if (offset.norm() > 0.0f && at > 0.0f) {
+      const Eigen::Vector3f normal = offset.normalized();
+      moved -= std::min(0.0f, moved.dot(normal)) * normal;
+      moved += 0.1f * moved.norm() * normal;  // and rises a little, so that the skin's turn cannot take it in
+    }
+    const Eigen::Vector3f target = from + moved;
+    if ((target - original_[k]).norm() > largest_move_) return false;
+    bound = grid_.signed_distance(target, closest.triangle, closest);
+    if (!(bound >= floor_[k])) return false;
+    ++stats.slid;
+    moved_[k / size_t(n_)] = 1;
+    positions_[k] = target;
+    lower_[k] = bound;
+    return true;
+  }
+
+  struct Chosen {
+    Vec direction;
+    bool skew;
+  };
+  std::unordered_map<uint64_t, Chosen> directions_;
+  const Mesh &mesh_;
+  std::span<Eigen::Vector3f> positions_;
+  int n_;
+  const ExactCurves &curves_;
+  float tolerance_;
+  float margin_;
+  const skin::SkinGrid &grid_;
+  std::span<float> lower_;
+  std::vector<Eigen::Vector3f> original_;
+  float largest_move_;
+  size_t strand_count_ = 0;
+  std::vector<float> arcs_;
+  std::vector<float> floor_;
+  std::vector<uint8_t> moved_;
+};
+
+}  // namespace
+
+SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, const ExactCurves &curves,
+                                 float tolerance, float margin, const Mesh &mesh, const skin::SkinGrid &skin_grid,
+                                 std::span<float> lower) {
+  SeparationStats stats;
+  if (n < 2 || positions.size() < 2 * size_t(n) || !(tolerance > 0.0f)) return stats;
+  Separator separator(positions, n, curves, tolerance, margin, mesh, skin_grid, lower);
+  constexpr int max_sweeps = 100;
+  const float detect = separation_detect * tolerance;
+  // Every pair that can come within `detect` while each point moves at most the allowed distance,
+  // found once; each sweep measures these alone.
+  const std::vector<std::pair<uint32_t, uint32_t>> candidates =
+      separator.near_pairs(detect + 2.0f * separator.largest_allowed(), true);
+  std::vector<uint8_t> is_near;
+  std::vector<std::pair<uint32_t, uint32_t>> pairs = separator.near_among(candidates, detect, {}, is_near);
+  stats.pairs_found = int64_t(pairs.size());
+  while (!pairs.empty() && stats.sweeps < max_sweeps) {
+    ++stats.sweeps;
+    bool moved = false;
+    for (const auto &[u, v] : pairs) moved = separator.push(u, v, stats) || moved;
+    pairs = separator.near_among(candidates, detect, separator.take_moved(), is_near);
+    if (!moved) break;
+  }
+  stats.pairs_left = int64_t(separator.near_among(candidates, tolerance, {}, is_near).size());
+  stats.points_moved = separator.points_moved();
+  stats.largest_move = separator.largest_move();
+  return stats;
+}
+
+}  // namespace plume::interp

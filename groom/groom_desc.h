@@ -60,18 +60,18 @@ inline constexpr int max_guides_per_root = 16;
 /// (Sintel's head and shoulders, 62 units across, get 0.031; the tip's default is a quarter of it).
 inline constexpr float default_width_root_fraction = 5e-4f;
 
-/// The default skin margin as a fraction of the rest guides' median segment length (no absolute unit:
-/// a groom modelled in metres or millimetres behaves like one in centimetres).
-inline constexpr float default_margin_fraction = 0.05f;
-
 struct InterpolationSettings {
   enum class Method { streamline, fur, linear } method = Method::streamline;
   int k = 4;                   // guides per root, in [1, max_guides_per_root]
   double radius = 0.0;         // 0: unlimited
   float falloff = 2.0f;        // weight ~ 1 / d^falloff
-  /// Scene units kept between strands and the skin; negative (the default): default_margin_fraction
-  /// of the rest guides' median segment length, so that the groom's scale does not matter.
+  /// Scene units kept between strands and the skin; negative (the default): interp::
+  /// default_margin_fraction of the rest guides' median segment length, so that the groom's scale
+  /// does not matter.
   float skin_margin = -1.0f;
+  /// Streamline: the separation pass over the written polylines (interp/separate.h). Off by default:
+  /// with it a proxy's strands are no longer the same bytes as in a run with more roots.
+  bool separate = false;
   FileLoc loc;
 };
 

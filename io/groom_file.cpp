@@ -373,6 +373,7 @@ void GroomReader::read_interpolation(YamlMap &root, GroomDesc &groom) {
   s.radius = at_least_double(interp, "radius", s.radius, 0.0);
   s.falloff = above(interp, "falloff", s.falloff, 0.0f, max_falloff);
   if (interp.has("skin_margin")) s.skin_margin = at_least(interp, "skin_margin", 0.0f, 0.0f);
+  s.separate = interp.boolean("separate", s.separate);
   interp.finish();
 }
 
@@ -797,7 +798,8 @@ std::string describe_group(const GroomDesc &groom, const std::string &indent) {
     const InterpolationSettings &s = groom.interpolation;
     out << indent << "interpolation: " << methods[int(s.method)] << ", k " << s.k << ", falloff "
         << format_number(s.falloff) << ", skin margin "
-        << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin)) << "\n";
+        << (s.skin_margin < 0.0f ? std::string("auto") : format_number(s.skin_margin))
+        << (s.separate ? ", separation pass" : "") << "\n";
     const PartingSettings &p = groom.partings;
     static const char *zone_sources[] = {"none", "face groups", "zone map", "hard lines"};
     out << indent << "partings: zones " << zone_sources[int(p.zone_source)] << ", " << p.lines.size() << " lines\n";

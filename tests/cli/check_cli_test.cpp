@@ -564,3 +564,31 @@ TEST_CASE("check --frames checks every frame of a range as --frame does, and fai
     CHECK(bad.err.find(message) != std::string::npos);
   }
 }
+
+TEST_CASE("interpolation.separate: the separation pass parts the written strands the checker finds crossing", "[cli]") {
+  ScratchDir scratch("check_separate");
+  // 4,000 strands of 8 points on Sintel: the field alone leaves transversal pairs there.
+  const auto dense = [&](const std::string &name, const std::string &extra) {
+    const std::string written = write_sintel_groom(scratch, name + "_400", extra);
+    const std::string path = scratch / (name + ".groom.yaml");
+    std::ifstream in(written);
+    std::ofstream out(path);
+    for (std::string line; std::getline(in, line);)
+      out << (line.rfind("roots:", 0) == 0 ? "roots: {count: 4000, near_guides: 2.0, seed: 3}" : line) << "\n";
+    return path;
+  };
+  const std::string plain = dense("plain", ""), parted = dense("parted", "interpolation: {separate: true}\n");
+  REQUIRE(run_plume("regrow " + quoted(plain) + " --frames 1 --no-preview --out " + quoted(scratch / "p.####.hair"), scratch)
+              .exit_code == 0);
+  REQUIRE(run_plume("regrow " + quoted(parted) + " --frames 1 --no-preview --out " + quoted(scratch / "s.####.hair"), scratch)
+              .exit_code == 0);
+  const JsonCheck before = check_json(quoted(scratch / "p.0001.hair") + " --groom " + quoted(plain) + " --frame 1", scratch);
+  const JsonCheck after = check_json(quoted(scratch / "s.0001.hair") + " --groom " + quoted(parted) + " --frame 1", scratch);
+  INFO("transversal pairs: " << before["crossings.transversal_pairs"] << " without the pass, "
+                             << after["crossings.transversal_pairs"] << " with it");
+  REQUIRE(before["crossings.transversal_pairs"] > 0);
+  CHECK(after["crossings.transversal_pairs"] * 4 < before["crossings.transversal_pairs"]);
+  CHECK(after["inside_skin.points"] == 0);
+  CHECK(after["guides.over_limit"] == 0);
+  CHECK(after["strand_count"] == before["strand_count"]);
+}

@@ -134,6 +134,7 @@ TEST_CASE("a full groom file sets every field of GroomDesc", "[io]") {
   CHECK(i.radius == 2.5);
   CHECK(i.falloff == 3.0f);
   CHECK(i.skin_margin == 0.01f);
+  CHECK(i.separate);
 
   const plume::PartingSettings &p = g.partings;
   CHECK(p.zone_source == plume::PartingSettings::ZoneSource::face_groups);
@@ -249,6 +250,7 @@ TEST_CASE("a minimal groom file gets the documented defaults", "[io]") {
   CHECK(g.interpolation.radius == 0.0);
   CHECK(g.interpolation.falloff == 2.0f);
   CHECK(g.interpolation.skin_margin < 0.0f);  // automatic: scaled to the guides
+  CHECK_FALSE(g.interpolation.separate);
   CHECK(g.partings.zone_source == plume::PartingSettings::ZoneSource::none);
   CHECK(g.partings.lines.empty());
   CHECK(g.effects.empty());
@@ -523,6 +525,7 @@ TEST_CASE("numbers beyond their documented bounds are errors naming the file, li
   const std::vector<KeyErrorCase> cases{
       {r + "interpolation: {method: fur, falloff: 1e12}\n", "interpolation.falloff", "expected a number in (0, 4], got \"1e12\""},
       {r + "interpolation: {skin_margin: 1e30}\n", "interpolation.skin_margin", "expected a number in [0, 1e+06]"},
+      {r + "interpolation: {separate: 2}\n", "interpolation.separate", "true or false"},
       {r + "interpolation: {radius: 1e39}\n", "interpolation.radius", "expected a finite number, got \"1e39\""},
       {r + "interpolation: {radius: 1e7}\n", "interpolation.radius", "expected a number in [0, 1e+06]"},
       {"roots: {count: 0}\n", "roots.count", "expected a whole number in [1, 100000000], got \"0\""},

@@ -17,8 +17,7 @@
 #include "groom/mesh_query.h"
 #include "groom/roots.h"
 #include "interp/interpolate.h"
-#include "io/obj_mesh.h"
-#include "io/strand_file.h"
+#include "bench_sintel_scene.h"
 
 using namespace plume;
 
@@ -30,13 +29,10 @@ int main(int argc, char **argv) {
     return 2;
   }
   omp_set_num_threads(2);
-  const std::string folder = std::string(PLUME_SOURCE_DIR) + "/grooms/sintel/";
-  const Mesh mesh = io::read_obj_mesh(folder + "sintel.obj");
+  const Mesh mesh = bench::sintel_mesh();
   const MeshQuery query(mesh);
-  const Guides guides = bind_guides(query, io::read_strands(folder + "sintel_guides.hair"), "sintel_guides.hair");
-  std::vector<Eigen::Vector3f> guide_roots;
-  for (const SurfacePoint &sp : guides.roots) guide_roots.push_back(surface_position(mesh, sp));
-  const Roots roots = scatter_roots(mesh, count, 1, triangles_near(mesh, guide_roots, 2.0));
+  const Guides guides = bench::sintel_guides(query);
+  const Roots roots = bench::sintel_scalp_roots(mesh, guides, count);
   InterpolationSettings settings;
   settings.method = InterpolationSettings::Method::streamline;
   const interp::Binding binding = interp::bind(mesh, guides, roots, settings);

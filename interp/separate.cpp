@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "groom/mesh_query.h"
+#include "groom/segment_distance.h"
 #include "skin/skin_grid.h"
 
 namespace plume::interp {
@@ -12,39 +13,6 @@ namespace plume::interp {
 namespace {
 
 using Vec = Eigen::Vector3d;
-
-/// Closest points of segments [p0, p1] and [q0, q1]: parameters r_s, r_t in [0, 1] (Ericson,
-/// Real-Time Collision Detection, 5.1.9), in double.
-void closest_on_segments(const Vec &p0, const Vec &p1, const Vec &q0, const Vec &q1, double &r_s, double &r_t) {
-  const Vec d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 0.0 && e <= 0.0) {
-    r_s = r_t = 0.0;
-    return;
-  }
-  if (a <= 0.0) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 0.0) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  r_s = s;
-  r_t = t;
-}
 
 Vec to_d(const Eigen::Vector3f &v) { return v.cast<double>(); }
 
@@ -168,7 +136,7 @@ class Separator {
     const float detect = separation_detect * tolerance_, goal = double(separation_goal) * tolerance_;
     const Vec a0 = to_d(end(u, 0)), a1 = to_d(end(u, 1)), b0 = to_d(end(v, 0)), b1 = to_d(end(v, 1));
     double s = 0.0, t = 0.0;
-    closest_on_segments(a0, a1, b0, b1, s, t);
+    closest_segment_parameters(a0, a1, b0, b1, s, t);
     const Vec pa = a0 + s * (a1 - a0), pb = b0 + t * (b1 - b0);
     if ((pa - pb).norm() >= double(detect)) return true;
     const size_t sa = u / size_t(n_ - 1), sb = v / size_t(n_ - 1);
@@ -228,7 +196,7 @@ class Separator {
         const Vec &q0 = of_a ? b0 : a0, &q1 = of_a ? b1 : a1;
         const double length = (q1 - q0).norm();
         double r = 0.0, unused = 0.0;
-        closest_on_segments(q0, q1, ends[k], ends[k], r, unused);
+        closest_segment_parameters(q0, q1, ends[k], ends[k], r, unused);
         const Vec offset = ends[k] - (q0 + r * (q1 - q0));
         if (offset.norm() > 0.5 * length) continue;
         const double side = (of_a ? 1.0 : -1.0) * offset.dot(direction);
@@ -281,7 +249,7 @@ class Separator {
   bool near(size_t u, size_t v, float distance, float cos_angle) const {
     const Vec a0 = to_d(end(u, 0)), a1 = to_d(end(u, 1)), b0 = to_d(end(v, 0)), b1 = to_d(end(v, 1));
     double s = 0.0, t = 0.0;
-    closest_on_segments(a0, a1, b0, b1, s, t);
+    closest_segment_parameters(a0, a1, b0, b1, s, t);
     if (((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm() >= double(distance)) return false;
     const Vec da = a1 - a0, db = b1 - b0;
     const double la = da.norm(), lb = db.norm();
@@ -306,7 +274,7 @@ class Separator {
         const Vec p0 = to_d(curves_.points[p]), p1 = to_d(curves_.points[p + 1]);
         const Vec q0 = to_d(curves_.points[q]), q1 = to_d(curves_.points[q + 1]);
         double s = 0.0, t = 0.0;
-        closest_on_segments(p0, p1, q0, q1, s, t);
+        closest_segment_parameters(p0, p1, q0, q1, s, t);
         const Vec d = (p0 + s * (p1 - p0)) - (q0 + t * (q1 - q0));
         if (d.squaredNorm() < best) {
           best = d.squaredNorm();

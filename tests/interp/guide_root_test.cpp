@@ -6,8 +6,6 @@
 
 #include <cmath>
 
-#include "check/check.h"
-#include "groom/guide_curve.h"
 #include "interp/hard_scenes.h"
 #include "interp/interp_fixtures.h"
 #include "interp/scene_measures.h"
@@ -56,17 +54,11 @@ TEST_CASE("a strand at a guide's root follows its guide past another guide that 
           const StrandSet strands =
               grow_scene(scene, at_guides, settings_of(InterpolationSettings::Method::streamline), points);
           REQUIRE(strands.strand_count() == scene.guides.size());
-          std::vector<CurvePiece> pieces;
           for (size_t g = 0; g < scene.guides.size(); ++g) {
-            const auto guide = scene.guides.strands.points(g);
-            guide_curve(guide, 1e-7f * float(scene.guides.strands.length(g)), pieces);
-            const std::vector<Eigen::Vector3f> curve = plume::sample_curve(pieces, 8);
-            double length = 0.0;
-            const double deviation =
-                check::guide_deviation(strands.points(g), strands.points(g).front(), curve, length);
-            INFO("scale " << scale << ", gap " << gap << ", angle " << angle << ", height " << height << ", " << points << " points, guide " << g
-                          << ": deviation " << 100.0 * deviation / length << "% of its length");
-            CHECK(deviation / length < 1e-3);
+            const double deviation = curve_deviation(scene.guides, g, strands.points(g));
+            INFO("scale " << scale << ", gap " << gap << ", angle " << angle << ", height " << height << ", " << points
+                          << " points, guide " << g << ": deviation " << 100.0 * deviation << "% of its length");
+            CHECK(deviation < 1e-3);
           }
         }
       }

@@ -8,7 +8,6 @@
 #include <cstring>
 
 #include "check/check.h"
-#include "groom/guide_curve.h"
 #include "interp/interp_fixtures.h"
 #include "interp/interpolate.h"
 #include "interp/scene_measures.h"
@@ -203,15 +202,10 @@ TEST_CASE("a streamline strand at a guide's root lies on the guide's curve and e
       const Roots at_guides = roots_of(scene.guides);
       const StrandSet strands = grow_scene(scene, at_guides, settings_of(Method::streamline), points);
       double worst = 0.0, worst_tip = 0.0;
-      std::vector<CurvePiece> pieces;
       for (size_t g = 0; g < scene.guides.size(); ++g) {
-        const auto guide = scene.guides.strands.points(g);
-        guide_curve(guide, 1e-7f * float(scene.guides.strands.length(g)), pieces);
-        const std::vector<Eigen::Vector3f> curve = plume::sample_curve(pieces, 8);
         double length = 0.0;
-        const double deviation = check::guide_deviation(strands.points(g), strands.points(g).front(), curve, length);
-        worst = std::max(worst, deviation / length);
-        worst_tip = std::max(worst_tip, double((strands.points(g).back() - guide.back()).norm()) / length);
+        worst = std::max(worst, curve_deviation(scene.guides, g, strands.points(g), &length));
+        worst_tip = std::max(worst_tip, double((strands.points(g).back() - scene.guides.strands.points(g).back()).norm()) / length);
       }
       INFO(scene.name << " at " << points << " points: largest deviation " << 100.0 * worst << "%, tip " << 100.0 * worst_tip
                       << "% of the guide's length");

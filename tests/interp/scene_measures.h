@@ -11,10 +11,25 @@
 #include <string>
 
 #include "check/check.h"
+#include "groom/guide_curve.h"
 #include "interp/hard_scenes.h"
 #include "interp/interpolate.h"
 
 namespace plume::test {
+
+/// The deviation of `strand` from guide g's curve (groom/guide_curve.h, 8 samples per piece), as
+/// the checker measures it (check::guide_deviation), as a fraction of the curve's length; the
+/// curve's length in r_length.
+inline double curve_deviation(const Guides &guides, size_t g, std::span<const Eigen::Vector3f> strand,
+                              double *r_length = nullptr) {
+  std::vector<CurvePiece> pieces;
+  plume::guide_curve(guides.strands.points(g), 1e-7f * float(guides.strands.length(g)), pieces);
+  const std::vector<Eigen::Vector3f> curve = plume::sample_curve(pieces, 8);
+  double length = 0.0;
+  const double deviation = check::guide_deviation(strand, strand.front(), curve, length);
+  if (r_length) *r_length = length;
+  return length > 0.0 ? deviation / length : 0.0;
+}
 
 inline InterpolationSettings settings_of(InterpolationSettings::Method method, int k = 4) {
   InterpolationSettings settings;

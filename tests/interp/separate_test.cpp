@@ -8,7 +8,6 @@
 #include <cstring>
 
 #include "exact/exact_planar.h"
-#include "groom/guide_curve.h"
 #include "interp/hard_scenes.h"
 #include "interp/scene_measures.h"
 #include "interp/separate.h"
@@ -120,15 +119,8 @@ Roots with_guide_roots(const Scene &scene) {
 float worst_guide_deviation(const Scene &scene, const StrandSet &strands) {
   const size_t first = strands.strand_count() - scene.guides.size();
   double worst = 0.0;
-  std::vector<CurvePiece> pieces;
-  for (size_t g = 0; g < scene.guides.size(); ++g) {
-    const auto guide = scene.guides.strands.points(g);
-    guide_curve(guide, 1e-7f * float(scene.guides.strands.length(g)), pieces);
-    const std::vector<Eigen::Vector3f> curve = plume::sample_curve(pieces, 8);
-    double length = 0.0;
-    const auto strand = strands.points(first + g);
-    worst = std::max(worst, check::guide_deviation(strand, strand.front(), curve, length) / length);
-  }
+  for (size_t g = 0; g < scene.guides.size(); ++g)
+    worst = std::max(worst, curve_deviation(scene.guides, g, strands.points(first + g)));
   return float(worst);
 }
 

@@ -462,21 +462,6 @@ void keep_curve(std::span<const Eigen::Vector3f> fine, float length, std::vector
   r_cut = float(std::min(double(length), arc));
 }
 
-/// The checker's default crossing tolerance on these strands: a thousandth of the median length of
-/// their segments of non-zero length (check/check.h).
-float crossing_tolerance(std::span<const Eigen::Vector3f> positions, int n) {
-  std::vector<float> lengths;
-  lengths.reserve(positions.size());
-  for (size_t i = 0; i + 1 < positions.size(); ++i)
-    if ((i + 1) % size_t(n) != 0) {
-      const float length = (positions[i + 1] - positions[i]).norm();
-      if (length > 0.0f) lengths.push_back(length);
-    }
-  if (lengths.empty()) return 0.0f;
-  std::nth_element(lengths.begin(), lengths.begin() + std::ptrdiff_t(lengths.size() / 2), lengths.end());
-  return 1e-3f * lengths[lengths.size() / 2];
-}
-
 }  // namespace
 
 GrowStats &GrowStats::operator+=(const GrowStats &other) {
@@ -686,9 +671,11 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     }
     fine_curves = {};
     curves.cuts = std::move(cuts);
+    // The checker's default crossing tolerance on these strands (check/check.h): a thousandth of
+    // their median segment.
+    const float tolerance = 1e-3f * float(median_segment_length(r_strands));
     const SeparationStats separation =
-        separate_strands(r_strands.positions, n, curves, crossing_tolerance(r_strands.positions, n), margin, mesh, skin_grid,
-                         clearance);
+        separate_strands(r_strands.positions, n, curves, tolerance, margin, mesh, skin_grid, clearance);
     stats.separated_pairs = separation.pairs_found;
     stats.unseparated_pairs = separation.pairs_left;
     stats.separation_points_moved = separation.points_moved;

@@ -57,10 +57,11 @@ TEST_CASE("a higher feather lies under a lower one only where the layering pass 
   // The checker's rule (check/feather_layers.h: CGAL rays along the skin normal from every vane vertex,
   // independent of the pass's own rays) against the frozen order. The pass lifts every feather out
   // from under the lower ones it overlaps where a turn up to the skin normal does; where none does
-  // (a lower feather lifted steeply beside it, or one over it near its root), it takes the turn under
-  // the fewest and names the feather. Every violation must be one of those; and they are few: fewer
-  // than a third of the violations of the coat grown without the pass (measured on the 600-feather
-  // proxy: 158 of 525 at rest, 128 of 550 at frame 24, from 90 and 80 feathers named).
+  // (a lower feather lifted steeply beside it, or one over it near its root), it turns the feather
+  // aside (a yaw about the skin normal) where that takes it out, else takes the turn under the
+  // fewest and names the feather. Every violation must be one of those named; and they are few: fewer
+  // than a sixth of the violations of the coat grown without the pass (measured on the 600-feather
+  // proxy: 41 of 359 at rest, 20 of 393 at frame 24).
   const LayeredBird without(600, kNoLayers), with(600, kAsShipped);
   std::unordered_map<uint64_t, int64_t> rank;
   std::unordered_map<uint64_t, int32_t> index;
@@ -81,12 +82,14 @@ TEST_CASE("a higher feather lies under a lower one only where the layering pass 
     const std::vector<int32_t> &named = after.layering.unordered;
     INFO("frame " << frame_number << ": " << a.violations << " layer-order violations without the pass, "
                   << b.violations << " with; " << named.size() << " feathers named (" << after.layering.left_under
-                  << " left under, " << after.layering.unresolved << " shrunk)");
+                  << " left under, " << after.layering.unresolved << " shrunk), " << after.layering.turned_aside
+                  << " turned aside");
     CHECK(std::is_sorted(named.begin(), named.end()));
     CHECK(int64_t(named.size()) <= after.layering.left_under + after.layering.unresolved);
     CHECK(check_frame(after).feather_pairs == 0);
     CHECK(a.violations > 300);
-    CHECK(3 * b.violations < a.violations);
+    CHECK(6 * b.violations < a.violations);
+    CHECK(after.layering.turned_aside > 0);
     CHECK(named.size() * 5 < with.coat->size());
     for (const auto &[lower, higher] : b.examples) {
       INFO("feather " << higher << " under the lower " << lower);

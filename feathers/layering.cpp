@@ -956,6 +956,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // nothing changed. Tested without the shortcuts of the turns about the axis (every lower
       // feather's boxes, then its triangles; every lower feather for the way out).
       std::vector<Vec> aside_vertices;
+      bool counted_under = false;  // whether the feather was counted in left_under
       std::vector<int32_t> all_lower(lower.size());
       for (size_t l = 0; l < lower.size(); ++l) all_lower[l] = int32_t(l);
       auto clear_moved = [&](const Eigen::Matrix3d &move) {
@@ -1021,7 +1022,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           ++aside_count;
           largest = std::max(largest, float(clearing));
           if (r_state) r_state->turns[i] = float(clearing);
-          --left_under;
+          if (counted_under) --left_under;
           unordered[i] = 0;
           return true;
         }
@@ -1137,6 +1138,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         under_test = false;
         witness = {};
         ++left_under;
+        counted_under = true;
         unordered[i] = 1;
         // With a warm start, the turn of the frame before competes too, when it keeps it clear of the
         // lower feathers' vanes and the skin: it stays there unless a step within kLocalSteps of it is
@@ -1183,8 +1185,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         if (above >= 0.0 && turn_aside()) continue;
       }
       if (above < 0.0) {
-        // No turn clears it (lower feathers stand over its root): unturned, it is shrunk toward its
-        // root until it clears (the largest such size), as the skin pass does.
+        // No turn clears it (lower feathers stand over its root): turned aside where that clears it,
+        // else, unturned, it is shrunk toward its root until it clears (the largest such size), as
+        // the skin pass does.
+        if (turn_aside()) continue;
         shrink_to(largest_clear_size(1.0));
         continue;
       }

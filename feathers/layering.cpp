@@ -959,25 +959,42 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       bool counted_under = false;  // whether the feather was counted in left_under
       std::vector<int32_t> all_lower(lower.size());
       for (size_t l = 0; l < lower.size(); ++l) all_lower[l] = int32_t(l);
+      // The lower feather whose vanes met the last move tested (the next is near): tried first.
+      size_t aside_witness = SIZE_MAX;
+      std::vector<Triangle> aside_triangles(mine.triangles.size());
+      std::vector<Eigen::AlignedBox3d> aside_boxes(mine.triangles.size());
       auto clear_moved = [&](const Eigen::Matrix3d &move) {
         const auto moved_point = [&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); };
-        for (const Triangle &t : mine.triangles) {
-          Triangle m;
-          Eigen::AlignedBox3d box;
+        Eigen::AlignedBox3d all;
+        for (size_t t = 0; t < mine.triangles.size(); ++t) {
+          aside_boxes[t].setEmpty();
           for (size_t v = 0; v < 3; ++v) {
-            m[v] = moved_point(t[v]);
-            box.extend(m[v]);
+            aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
+            aside_boxes[t].extend(aside_triangles[t][v]);
           }
-          for (const FeatherVanes *f : lower) {
-            if (apart(box, f->box)) continue;
-            for (size_t g = 0; g < f->group_boxes.size(); ++g) {
-              if (apart(box, f->group_boxes[g])) continue;
-              const size_t group_end = std::min(f->triangles.size(), g * kGroup + kGroup);
+          all.extend(aside_boxes[t]);
+        }
+        const auto vanes_meet = [&](size_t l) {
+          const FeatherVanes &f = *lower[l];
+          if (apart(all, f.box)) return false;
+          for (size_t t = 0; t < aside_triangles.size(); ++t) {
+            if (apart(aside_boxes[t], f.box)) continue;
+            for (size_t g = 0; g < f.group_boxes.size(); ++g) {
+              if (apart(aside_boxes[t], f.group_boxes[g])) continue;
+              const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
               for (size_t u = g * kGroup; u < group_end; ++u)
-                if (!apart(box, f->boxes[u]) && too_close(m, f->triangles[u], gap2)) return false;
+                if (!apart(aside_boxes[t], f.boxes[u]) && too_close(aside_triangles[t], f.triangles[u], gap2))
+                  return true;
             }
           }
-        }
+          return false;
+        };
+        if (aside_witness != SIZE_MAX && vanes_meet(aside_witness)) return false;
+        for (size_t l = 0; l < lower.size(); ++l)
+          if (l != aside_witness && vanes_meet(l)) {
+            aside_witness = l;
+            return false;
+          }
         aside_vertices.resize(size_t(v1 - v0));
         for (int64_t x = v0; x < v1; ++x) {
           const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();

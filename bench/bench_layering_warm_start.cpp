@@ -14,19 +14,18 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
 #include <vector>
 
 #include "app/pipeline.h"
+#include "bench_bird.h"
 #include "check/vanes.h"
 #include "feathers/coat.h"
 #include "groom/mesh_query.h"
 #include "io/feather_writers.h"
 #include "io/groom_file.h"
-#include "skin/skin_grid.h"
 
 using namespace plume;
 
@@ -70,60 +69,48 @@ int main(int argc, char **argv) {
   io::FeatherWriteOptions write;
   for (const FeatherTemplate &t : groom.feathers.templates) write.template_names.push_back(t.name);
 
-  std::array<feathers::CoatFrame, 2> before, now;  // [stateless, warm]
   std::array<std::vector<Frame>, 2> frames;
-  for (int frame = 1; frame <= last; ++frame) {
-    const Mesh posed = pipeline.posed_mesh(frame);
-    const StrandSet stems = pipeline.guides_at(frame, posed);
-    const MeshQuery query(posed);
-    const skin::SkinGrid grid(posed, query);
-    for (int mode = 0; mode < 2; ++mode) {
-      feathers::CoatFrame &a = before[size_t(mode)], &b = now[size_t(mode)];
-      const bool has_before = frame > 1;
-      const auto t0 = std::chrono::steady_clock::now();
-      coat.grow(posed, query, stems, b, &grid, has_before ? &a.skin_pass : nullptr,
-                mode == 1 && has_before ? &a.layer_state : nullptr);
-      Frame f;
-      f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      f.lifted = b.layering.lifted;
-      f.shrunk = b.layering.unresolved;
-      f.under = b.layering.left_under;
-      f.pairs = check::check_vanes(b.vanes.positions, b.vanes.triangles, b.vanes.triangle_feathers).feather_pairs;
-      if (has_before) {
-        for (size_t i = 0; i < n; ++i) {
-          const bool jumped = std::abs(b.layer_state.turns[i] - a.layer_state.turns[i]) > 0.05f;
-          f.jumps += jumped ? 1 : 0;
-          const Eigen::Matrix3f ta = a.root_frames[i].basis.transpose(), tb = b.root_frames[i].basis.transpose();
-          double jump = 0.0;
-          for (int64_t v = ranges.first_vertex[i]; v < ranges.first_vertex[i + 1]; ++v) {
-            const Eigen::Vector3f pa = ta * (a.vanes.positions[size_t(v)] - a.root_frames[i].origin);
-            const Eigen::Vector3f pb = tb * (b.vanes.positions[size_t(v)] - b.root_frames[i].origin);
-            jump = std::max(jump, double((pb - pa).norm()) / coat.shapes()[i].main.rachis_width);
+  bench::TwoRuns runs;
+  runs.stateless_skin_warm = true;
+  runs.warm_layers = true;
+  bench::grow_twice(
+      pipeline, coat, last, runs,
+      [&](const bench::GrownFrame &g) {
+        const feathers::CoatFrame &b = *g.now;
+        Frame f;
+        f.seconds = g.seconds;
+        f.lifted = b.layering.lifted;
+        f.shrunk = b.layering.unresolved;
+        f.under = b.layering.left_under;
+        f.pairs = check::check_vanes(b.vanes.positions, b.vanes.triangles, b.vanes.triangle_feathers).feather_pairs;
+        if (g.before) {
+          const feathers::CoatFrame &a = *g.before;
+          for (size_t i = 0; i < n; ++i) {
+            const bool jumped = std::abs(b.layer_state.turns[i] - a.layer_state.turns[i]) > 0.05f;
+            f.jumps += jumped ? 1 : 0;
+            const double jump = bench::skin_frame_jump(a, b, ranges, i, coat.shapes()[i].main.rachis_width);
+            if (jump > 10.0 && std::getenv("PLUME_BENCH_TRACE"))
+              std::printf("  %s frame %d feather %zu (id %llu): %.2f widths; skin lift %.4f -> %.4f, scale %.3f -> "
+                          "%.3f; layering turn %.4f -> %.4f, scale %.3f -> %.3f\n",
+                          g.run ? "warm" : "stateless", g.frame, i, (unsigned long long)coat.ids()[i], jump,
+                          a.skin_pass.lifts[i], b.skin_pass.lifts[i], a.skin_pass.scales[i], b.skin_pass.scales[i],
+                          a.layer_state.turns[i], b.layer_state.turns[i], a.layer_state.scales[i],
+                          b.layer_state.scales[i]);
+            f.largest = std::max(f.largest, jump);
+            if (!jumped) f.largest_other = std::max(f.largest_other, jump);
           }
-          if (jump > 10.0 && std::getenv("PLUME_BENCH_TRACE"))
-            std::printf("  %s frame %d feather %zu (id %llu): %.2f widths; skin lift %.4f -> %.4f, scale %.3f -> "
-                        "%.3f; layering turn %.4f -> %.4f, scale %.3f -> %.3f\n",
-                        mode ? "warm" : "stateless", frame, i, (unsigned long long)coat.ids()[i], jump,
-                        a.skin_pass.lifts[i], b.skin_pass.lifts[i], a.skin_pass.scales[i], b.skin_pass.scales[i],
-                        a.layer_state.turns[i], b.layer_state.turns[i], a.layer_state.scales[i],
-                        b.layer_state.scales[i]);
-          f.largest = std::max(f.largest, jump);
-          if (!jumped) f.largest_other = std::max(f.largest_other, jump);
         }
-      }
-      double load[3] = {0, 0, 0};
-      getloadavg(load, 3);
-      f.load = load[0];
-      frames[size_t(mode)].push_back(f);
-      if (!out.empty()) {
-        char name[64];
-        std::snprintf(name, sizeof name, "%s.%04d.obj", mode ? "warm" : "stateless", frame);
-        io::write_vane_mesh(out + name, b.vanes, write);
-      }
-      std::swap(a, b);
-    }
-    std::fprintf(stderr, "frame %d done\n", frame);
-  }
+        double load[3] = {0, 0, 0};
+        getloadavg(load, 3);
+        f.load = load[0];
+        frames[size_t(g.run)].push_back(f);
+        if (!out.empty()) {
+          char name[64];
+          std::snprintf(name, sizeof name, "%s.%04d.obj", g.run ? "warm" : "stateless", g.frame);
+          io::write_vane_mesh(out + name, b.vanes, write);
+        }
+      },
+      [](int frame) { std::fprintf(stderr, "frame %d done\n", frame); });
   std::printf("bench_layering_warm_start: the bird in layers, %zu feathers, frames 1-%d (stems simulated), %d threads, "
               "%ld cores\n",
               n, last, omp_get_max_threads(), sysconf(_SC_NPROCESSORS_ONLN));

@@ -7,16 +7,15 @@
 // coat's time. Usage: bench_skin_pass_popping [last_frame, default 48] [follicles, default the groom's].
 #include <omp.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
 
 #include "app/pipeline.h"
+#include "bench_bird.h"
 #include "feathers/coat.h"
 #include "groom/mesh_query.h"
 #include "io/groom_file.h"
-#include "skin/skin_grid.h"
 
 using namespace plume;
 
@@ -48,42 +47,28 @@ int main(int argc, char **argv) {
   std::vector<float> widths(n);
   for (size_t i = 0; i < n; ++i) widths[i] = coat.shapes()[i].main.rachis_width;
 
-  std::array<feathers::CoatFrame, 2> before, now;  // [stateless, warm]
   std::array<std::vector<Step>, 2> steps;
-  for (int frame = 1; frame <= last; ++frame) {
-    const Mesh posed = pipeline.posed_mesh(frame);
-    const StrandSet stems = pipeline.guides_at(frame, posed);
-    const MeshQuery query(posed);
-    const skin::SkinGrid grid(posed, query);
-    for (int mode = 0; mode < 2; ++mode) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const feathers::SkinPassState *previous = mode == 1 && frame > 1 ? &before[size_t(mode)].skin_pass : nullptr;
-      coat.grow(posed, query, stems, now[size_t(mode)], &grid, previous);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (frame > 1) {
-        const feathers::CoatFrame &a = before[size_t(mode)], &b = now[size_t(mode)];
+  bench::grow_twice(
+      pipeline, coat, last, bench::TwoRuns{},
+      [&](const bench::GrownFrame &g) {
+        if (!g.before) return;
+        const feathers::CoatFrame &a = *g.before, &b = *g.now;
         Step step;
-        step.seconds = seconds;
+        step.seconds = g.seconds;
         for (size_t i = 0; i < n; ++i) {
           const bool jumped = std::abs(b.skin_pass.lifts[i] - a.skin_pass.lifts[i]) > 0.05f;
           step.jumps += jumped ? 1 : 0;
-          const Eigen::Matrix3f ta = a.root_frames[i].basis.transpose(), tb = b.root_frames[i].basis.transpose();
-          double jump = 0.0;
-          for (int64_t v = ranges.first_vertex[i]; v < ranges.first_vertex[i + 1]; ++v) {
-            const Eigen::Vector3f pa = ta * (a.vanes.positions[size_t(v)] - a.root_frames[i].origin);
-            const Eigen::Vector3f pb = tb * (b.vanes.positions[size_t(v)] - b.root_frames[i].origin);
-            jump = std::max(jump, double((pb - pa).norm()) / widths[i]);
-          }
+          const double jump = bench::skin_frame_jump(a, b, ranges, i, widths[i]);
           if (jumped && std::getenv("PLUME_BENCH_TRACE"))
             std::printf("  %s frame %d feather %zu (id %llu): lift %.4f -> %.4f, scale %.3f -> %.3f, %.2f widths\n",
-                        mode ? "warm" : "stateless", frame, i, (unsigned long long)coat.ids()[i], a.skin_pass.lifts[i],
+                        g.run ? "warm" : "stateless", g.frame, i, (unsigned long long)coat.ids()[i], a.skin_pass.lifts[i],
                         b.skin_pass.lifts[i], a.skin_pass.scales[i], b.skin_pass.scales[i], jump);
           step.largest = std::max(step.largest, jump);
           if (!jumped) step.largest_other = std::max(step.largest_other, jump);
         }
         // As plume check counts them: below -eps, eps = 1e-5 x the skin's bounding-box diagonal.
         Eigen::AlignedBox3f box;
-        for (const Eigen::Vector3f &p : posed.positions) box.extend(p);
+        for (const Eigen::Vector3f &p : g.posed->positions) box.extend(p);
         const float eps = 1e-5f * box.diagonal().norm();
         int64_t below = 0;
 #pragma omp parallel for reduction(+ : below) schedule(dynamic, 16)
@@ -91,16 +76,14 @@ int main(int argc, char **argv) {
           int hint = coat.follicles()[size_t(f)].triangle;
           for (int64_t v = ranges.first_vertex[size_t(f)]; v < ranges.first_vertex[size_t(f) + 1]; ++v) {
             SurfacePoint closest;
-            below += grid.signed_distance(b.vanes.positions[size_t(v)], hint, closest) < -eps ? 1 : 0;
+            below += g.grid->signed_distance(b.vanes.positions[size_t(v)], hint, closest) < -eps ? 1 : 0;
             hint = closest.triangle;
           }
         }
         step.below = below;
-        steps[size_t(mode)].push_back(step);
-      }
-      std::swap(before[size_t(mode)], now[size_t(mode)]);
-    }
-  }
+        steps[size_t(g.run)].push_back(step);
+      },
+      [](int) {});
   double load[3] = {0, 0, 0};
   getloadavg(load, 3);
   std::printf("bench_skin_pass_popping: the bird, %zu feathers, frames 1-%d, %d threads, %ld cores, load %.1f\n", n,

@@ -41,6 +41,12 @@ constexpr int kLocalSteps = 3;
 /// does by this many steps down (each the warm start's fall-back step) before a bisection from there.
 constexpr int kShrinkSteps = 16;
 
+/// Turning aside (docs/feathers.md, "Turned aside"): the yaws about the skin normal tried, nearest
+/// first, and the steps of the turn tried at each (then bisection to kAsideTolerance radians).
+constexpr double kAsideYaws[] = {0.1, -0.1, 0.2, -0.2, 0.3, -0.3, 0.45, -0.45};
+constexpr double kAsideStep = 0.05;
+constexpr double kAsideTolerance = 1e-3;
+
 /// The checker's root disc (check/vanes.h, OverlapOptions): vertices within this fraction of their
 /// feather's extent from its vane base cast no ray when the order reads which feather lies over which.
 constexpr double kCheckerRootDisc = 0.05;
@@ -486,10 +492,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   std::optional<skin::SkinGrid> own_grid;
   const skin::SkinGrid *grid = skin_grid;
   if (skin && !grid) grid = &own_grid.emplace(skin->mesh(), *skin);
-  int64_t lifted = 0, unresolved = 0, left_under = 0;
+  int64_t lifted = 0, unresolved = 0, left_under = 0, aside_count = 0;
   std::vector<char> unordered(n, 0);
   float largest = 0.0f;
-#pragma omp parallel reduction(+ : lifted, unresolved, left_under) reduction(max : largest)
+#pragma omp parallel reduction(+ : lifted, unresolved, left_under, aside_count) reduction(max : largest)
   while (true) {
     int32_t next = -1;
     {
@@ -754,15 +760,15 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       std::vector<SurfacePoint> closest_hints(under_test && skin ? size_t(v1 - v0) : 0);
       // With `r_over`, every lower feather over the vertex not marked yet is marked there (by its
       // place in `lower`), and their number returned.
-      auto under_lower = [&](const Eigen::Matrix3d &turn, size_t k,
-                             std::vector<char> *r_over = nullptr) -> std::ptrdiff_t {
-        const int64_t x = outward[k];
-        const Vec q = mine.root + turn * (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root);
+      // The test at `q` (where vertex `x` lies) against the lower feathers listed (places in `lower`)
+      // from `first` to `last`.
+      auto under_lower_at = [&](const Vec &q, int64_t x, const int32_t *first, const int32_t *last,
+                                std::vector<char> *r_over) -> std::ptrdiff_t {
         Vec out = normal;
         bool out_known = !skin;
         std::ptrdiff_t marked = 0;
-        for (size_t c = outward_first[k]; c < outward_first[k + 1]; ++c) {
-          const size_t l = size_t(outward_lower[c]);
+        for (const int32_t *c = first; c != last; ++c) {
+          const size_t l = size_t(*c);
           if (r_over && (*r_over)[l]) continue;
           const FeatherVanes &f = *lower[l];
           const Vec to_center = lower_centers[l] - q;
@@ -808,6 +814,14 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           ++marked;
         }
         return marked;
+      };
+      // At a turn: the vertex outward[k] turned, against the lower feathers its circle passes near.
+      auto under_lower = [&](const Eigen::Matrix3d &turn, size_t k,
+                             std::vector<char> *r_over = nullptr) -> std::ptrdiff_t {
+        const int64_t x = outward[k];
+        const Vec q = mine.root + turn * (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root);
+        const int32_t *list = outward_lower.data();
+        return under_lower_at(q, x, list + outward_first[k], list + outward_first[k + 1], r_over);
       };
       // With `r_clear`, what the call learnt of the turn without the test for lower feathers over
       // it: 0 it conflicts, 1 it does not, unchanged when the call did not find out.
@@ -932,6 +946,106 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       };
       constexpr double kStep = 0.02;  // radians, about 1.1 degrees
 
+      // Turned aside where a turn is not enough (docs/feathers.md, "Turned aside"): a feather no turn
+      // about its root takes out from under the lower ones is turned about the skin normal through its
+      // root (a yaw, the nearest of kAsideYaws first), then up about its axis turned with it, by the
+      // smallest turn (steps of kAsideStep up to the skin normal, then bisection) that keeps it clear of
+      // every lower feather's vanes by the offset, out of the skin and from under every lower feather.
+      // A yaw and a turn move it rigidly about its root, so it stays within its extent of it and meets
+      // only the lower feathers placed before it. Found: the feather ends there, and true; none: false,
+      // nothing changed. Tested without the shortcuts of the turns about the axis (every lower
+      // feather's boxes, then its triangles; every lower feather for the way out).
+      std::vector<Vec> aside_vertices;
+      bool counted_under = false;  // whether the feather was counted in left_under
+      std::vector<int32_t> all_lower(lower.size());
+      for (size_t l = 0; l < lower.size(); ++l) all_lower[l] = int32_t(l);
+      // The lower feather whose vanes met the last move tested (the next is near): tried first.
+      size_t aside_witness = SIZE_MAX;
+      std::vector<Triangle> aside_triangles(mine.triangles.size());
+      std::vector<Eigen::AlignedBox3d> aside_boxes(mine.triangles.size());
+      auto clear_moved = [&](const Eigen::Matrix3d &move) {
+        const auto moved_point = [&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); };
+        Eigen::AlignedBox3d all;
+        for (size_t t = 0; t < mine.triangles.size(); ++t) {
+          aside_boxes[t].setEmpty();
+          for (size_t v = 0; v < 3; ++v) {
+            aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
+            aside_boxes[t].extend(aside_triangles[t][v]);
+          }
+          all.extend(aside_boxes[t]);
+        }
+        const auto vanes_meet = [&](size_t l) {
+          const FeatherVanes &f = *lower[l];
+          if (apart(all, f.box)) return false;
+          for (size_t t = 0; t < aside_triangles.size(); ++t) {
+            if (apart(aside_boxes[t], f.box)) continue;
+            for (size_t g = 0; g < f.group_boxes.size(); ++g) {
+              if (apart(aside_boxes[t], f.group_boxes[g])) continue;
+              const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
+              for (size_t u = g * kGroup; u < group_end; ++u)
+                if (!apart(aside_boxes[t], f.boxes[u]) && too_close(aside_triangles[t], f.triangles[u], gap2))
+                  return true;
+            }
+          }
+          return false;
+        };
+        if (aside_witness != SIZE_MAX && vanes_meet(aside_witness)) return false;
+        for (size_t l = 0; l < lower.size(); ++l)
+          if (l != aside_witness && vanes_meet(l)) {
+            aside_witness = l;
+            return false;
+          }
+        aside_vertices.resize(size_t(v1 - v0));
+        for (int64_t x = v0; x < v1; ++x) {
+          const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
+          aside_vertices[size_t(x - v0)] = moved_point(p);
+          if (skin && (p - mine.root).norm() > double(options.root_disc) * mine.extent &&
+              skin_distance(aside_vertices[size_t(x - v0)], mine_skin[size_t(x - v0)]) < 0.0)
+            return false;
+        }
+        for (const int64_t x : outward)
+          if (under_lower_at(aside_vertices[size_t(x - v0)], x, all_lower.data(), all_lower.data() + all_lower.size(),
+                             nullptr))
+            return false;
+        return true;
+      };
+      auto turn_aside = [&]() {
+        if (lower.empty() || outward.empty()) return false;
+        for (const double yaw : kAsideYaws) {
+          const Eigen::Matrix3d aside = Eigen::AngleAxisd(yaw, normal).toRotationMatrix();
+          const Vec turned_axis = aside * axis;
+          const auto move = [&](double angle) {
+            return Eigen::Matrix3d(Eigen::AngleAxisd(angle, turned_axis).toRotationMatrix() * aside);
+          };
+          double failing = -1.0, clearing = -1.0;
+          for (double a = 0.0; a < max_angle + kAsideStep; a += kAsideStep) {
+            const double at = std::min(a, max_angle);
+            if (clear_moved(move(at))) {
+              clearing = at;
+              break;
+            }
+            failing = at;
+          }
+          if (clearing < 0.0) continue;
+          while (failing >= 0.0 && clearing - failing > kAsideTolerance) {
+            const double mid = 0.5 * (failing + clearing);
+            (clear_moved(move(mid)) ? clearing : failing) = mid;
+          }
+          const Eigen::Matrix3f m = move(clearing).cast<float>();
+          move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
+          r_frame.lifts[i] += float(clearing);
+          mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+          ++lifted;
+          ++aside_count;
+          largest = std::max(largest, float(clearing));
+          if (r_state) r_state->turns[i] = float(clearing);
+          if (counted_under) --left_under;
+          unordered[i] = 0;
+          return true;
+        }
+        return false;
+      };
+
       // The warm start (docs/feathers.md, "The layering pass's warm start"): from the turn and size
       // the feather had at the frame before.
       double from = -1.0;     // the turn at the frame before, with a warm start
@@ -1041,6 +1155,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         under_test = false;
         witness = {};
         ++left_under;
+        counted_under = true;
         unordered[i] = 1;
         // With a warm start, the turn of the frame before competes too, when it keeps it clear of the
         // lower feathers' vanes and the skin: it stays there unless a step within kLocalSteps of it is
@@ -1074,7 +1189,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (at == max_angle || best <= 1) break;
         }
         if (stay && above == from) {
-          end_at(from);
+          if (!turn_aside()) end_at(from);
           continue;
         }
         if (above > 0.0) {
@@ -1084,10 +1199,13 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             (worse(mid, best) ? below : above) = mid;
           }
         }
+        if (above >= 0.0 && turn_aside()) continue;
       }
       if (above < 0.0) {
-        // No turn clears it (lower feathers stand over its root): unturned, it is shrunk toward its
-        // root until it clears (the largest such size), as the skin pass does.
+        // No turn clears it (lower feathers stand over its root): turned aside where that clears it,
+        // else, unturned, it is shrunk toward its root until it clears (the largest such size), as
+        // the skin pass does.
+        if (turn_aside()) continue;
         shrink_to(largest_clear_size(1.0));
         continue;
       }
@@ -1105,6 +1223,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   stats.lifted = lifted;
   stats.unresolved = unresolved;
   stats.left_under = left_under;
+  stats.turned_aside = aside_count;
   for (size_t i = 0; i < n; ++i)
     if (unordered[i]) stats.unordered.push_back(int32_t(i));
   stats.largest_lift = largest;

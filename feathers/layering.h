@@ -111,6 +111,9 @@ struct LayeringStats {
   /// Feathers no turn up to the skin normal takes out from under every lower feather they overlap:
   /// kept clear of them only (the checker's layer-order violations come from these).
   int64_t left_under = 0;
+  /// Feathers no turn about their axis took out from under the lower ones, turned aside (a yaw about
+  /// the skin normal, then a turn) until none is over them (counted in `lifted`, not in `left_under`).
+  int64_t turned_aside = 0;
   /// The feathers left under a lower one or shrunk (indices, ascending): a higher feather found
   /// under a lower one anywhere on the frame is one of these.
   std::vector<int32_t> unordered;

@@ -8,12 +8,10 @@
 #include <filesystem>
 #include <map>
 
+#include "feather_fixtures.h"
 #include "feathers/coat.h"
 #include "groom/guides.h"
 #include "groom/mesh_query.h"
-#include "io/groom_file.h"
-#include "io/obj_mesh.h"
-#include "io/strand_file.h"
 #include "skin/skin_grid.h"
 
 using namespace plume;
@@ -21,52 +19,9 @@ using namespace plume::feathers;
 
 namespace {
 
-const std::string kBird = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
-
-/// The bird at rest, its stems and its groom's feathers; `follicles` of them (the groom's 5,000 when < 0).
-struct Bird {
-  GroomDesc groom;
-  Mesh rest;
-  std::unique_ptr<MeshQuery> query;
-  Guides stems;
-  std::unique_ptr<Coat> coat;
-
-  explicit Bird(int64_t follicles = -1, float scale = 1.0f) : groom(io::read_groom_file(kBird + "bird.groom.yaml")) {
-    // The coat's own promises, without the pass that keeps feathers apart (layering_test.cpp).
-    groom.feathers.layers = false;
-    rest = io::read_obj_mesh(kBird + "bird.obj");
-    StrandSet stem_strands = io::read_strands(kBird + "stems.obj");
-    if (scale != 1.0f) {
-      for (Eigen::Vector3f &p : rest.positions) p *= scale;
-      rest.compute_normals();
-      for (Eigen::Vector3f &p : stem_strands.positions) p *= scale;
-      for (FeatherTemplate &t : groom.feathers.templates) scale_template(t, scale);
-      for (KeyFeather &k : groom.feathers.key_feathers) k.radius *= scale;
-    }
-    query = std::make_unique<MeshQuery>(rest);
-    stems = bind_guides(*query, stem_strands, "stems.obj");
-    coat = std::make_unique<Coat>(rest, stems, groom.feathers,
-                                  scatter_follicles(rest, groom.feathers.follicles, {}, follicles));
-  }
-  static void scale_template(FeatherTemplate &t, float s) {
-    for (float *v : {&t.calamus_length, &t.rachis_length, &t.rachis_width, &t.spacing_base, &t.spacing_tip, &t.barb_width})
-      *v *= s;
-    for (VaneDesc *vane : {&t.left, &t.right}) {
-      vane->barb_length *= s;
-      for (float &v : vane->silhouette.value) v *= s;
-    }
-  }
-  Mesh pose(int frame) const {
-    char name[32];
-    std::snprintf(name, sizeof name, "anim/bird.%04d.obj", frame);
-    return io::read_obj_pose(kBird + name, rest);
-  }
-  CoatFrame grow(const Mesh &posed) const {
-    const MeshQuery posed_query(posed);
-    CoatFrame frame;
-    coat->grow(posed, posed_query, carry_guides(rest, posed, stems), frame);
-    return frame;
-  }
+/// The bird's coat without the pass that keeps feathers apart (layering_test.cpp): the coat's own promises.
+struct Bird : test::BirdCoat {
+  explicit Bird(int64_t follicles = -1, float scale = 1.0f) : BirdCoat(follicles, test::layers_off, scale) {}
 };
 
 /// Each feather's length: the arc length of its shaft (calamus and rachis).

@@ -1,15 +1,26 @@
 // Feather templates for the tests: the gallery's types, and random templates drawn from a seed
-// (unequal vanes, steps, silhouettes, key barbs of any degree, tiny and huge scales).
+// (unequal vanes, steps, silhouettes, key barbs of any degree, tiny and huge scales); and the bird
+// of grooms/bird/ with a coat of its feathers, for the coat's and the layering pass's tests.
 #pragma once
 
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "feathers/build.h"
+#include "feathers/coat.h"
 #include "groom/feather_desc.h"
+#include "groom/groom_desc.h"
+#include "groom/guides.h"
+#include "groom/mesh_query.h"
 #include "groom/roots.h"
+#include "io/groom_file.h"
+#include "io/obj_mesh.h"
+#include "io/strand_file.h"
 
 namespace plume::test {
 
@@ -113,6 +124,81 @@ inline float max_point_difference(const feathers::FeatherGeometry &a, const feat
   for (size_t i = 0; i < a.vane_positions.size(); ++i)
     worst = std::max(worst, (a.vane_positions[i] - b.vane_positions[i]).norm());
   return worst;
+}
+
+/// The template's lengths times `s` (a groom modelled in other units).
+inline void scale_template(FeatherTemplate &t, float s) {
+  for (float *v : {&t.calamus_length, &t.rachis_length, &t.rachis_width, &t.spacing_base, &t.spacing_tip, &t.barb_width})
+    *v *= s;
+  for (VaneDesc *vane : {&t.left, &t.right}) {
+    vane->barb_length *= s;
+    for (float &v : vane->silhouette.value) v *= s;
+  }
+}
+
+/// The bird of grooms/bird/ at rest, its stems bound to the skin and a coat of `follicles` of its
+/// groom's feathers (the groom's 5,000 when < 0); the groom scaled by `scale` (mesh, stems, templates
+/// and key-feather radii), then its feathers changed by `edit` (e.g. layering on or off).
+struct BirdCoat {
+  inline static const std::string kDirectory = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
+
+  GroomDesc groom;
+  Mesh rest;
+  Guides stems;
+  std::unique_ptr<feathers::Coat> coat;
+
+  template <class Edit>
+  BirdCoat(int64_t follicles, Edit edit, float scale = 1.0f) : groom(io::read_groom_file(kDirectory + "bird.groom.yaml")) {
+    rest = io::read_obj_mesh(kDirectory + "bird.obj");
+    StrandSet stem_strands = io::read_strands(kDirectory + "stems.obj");
+    if (scale != 1.0f) {
+      for (Eigen::Vector3f &p : rest.positions) p *= scale;
+      rest.compute_normals();
+      for (Eigen::Vector3f &p : stem_strands.positions) p *= scale;
+      for (FeatherTemplate &t : groom.feathers.templates) scale_template(t, scale);
+      for (KeyFeather &k : groom.feathers.key_feathers) k.radius *= scale;
+    }
+    edit(groom.feathers);
+    const MeshQuery query(rest);
+    stems = bind_guides(query, stem_strands, "stems.obj");
+    coat = std::make_unique<feathers::Coat>(rest, stems, groom.feathers,
+                                            feathers::scatter_follicles(rest, groom.feathers.follicles, {}, follicles));
+  }
+  /// The bird's animated skin at `frame` (grooms/bird/anim/).
+  Mesh pose(int frame) const {
+    char name[32];
+    std::snprintf(name, sizeof name, "anim/bird.%04d.obj", frame);
+    return io::read_obj_pose(kDirectory + name, rest);
+  }
+  /// The pose a fraction `t` of the way from `a` to `b` (vertices blended linearly).
+  static Mesh blend(const Mesh &a, const Mesh &b, float t) {
+    Mesh posed = a;
+    for (size_t v = 0; v < posed.positions.size(); ++v) posed.positions[v] = (1.0f - t) * a.positions[v] + t * b.positions[v];
+    posed.compute_normals();
+    return posed;
+  }
+  /// The coat on `posed`, stateless, or from the frame `before` (its skin pass's state, and with
+  /// `layers_warm` its layering pass's too).
+  feathers::CoatFrame grow(const Mesh &posed, const feathers::CoatFrame *before = nullptr, bool layers_warm = true) const {
+    const MeshQuery query(posed);
+    feathers::CoatFrame frame;
+    coat->grow(posed, query, carry_guides(rest, posed, stems), frame, nullptr, before ? &before->skin_pass : nullptr,
+               before && layers_warm ? &before->layer_state : nullptr);
+    return frame;
+  }
+};
+
+/// Feathers' layering on or off in a BirdCoat's groom.
+inline void layers_on(FeatherDesc &d) { d.layers = true; }
+inline void layers_off(FeatherDesc &d) { d.layers = false; }
+
+/// How many vane vertices of `frame` lie deeper than `eps` below the skin `posed`.
+inline size_t vane_points_below_skin(const Mesh &posed, const feathers::CoatFrame &frame, float eps) {
+  const MeshQuery query(posed);
+  size_t below = 0;
+  for (const Eigen::Vector3f &p : frame.vanes.positions)
+    if (query.signed_distance(p) < -eps) ++below;
+  return below;
 }
 
 }  // namespace plume::test

@@ -13,76 +13,20 @@
 
 #include "check/feather_layers.h"
 #include "check/vanes.h"
+#include "feather_fixtures.h"
 #include "feathers/coat.h"
-#include "groom/guides.h"
 #include "groom/mesh_query.h"
-#include "io/groom_file.h"
-#include "io/obj_mesh.h"
-#include "io/strand_file.h"
 
 using namespace plume;
 using namespace plume::feathers;
 
 namespace {
 
-const std::string kBird = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
-
-/// The bird with `follicles` feathers (a subset of its 5,000), its groom's feathers changed by
-/// `edit` first.
-struct LayeredBird {
-  GroomDesc groom;
-  Mesh rest;
-  Guides stems;
-  std::unique_ptr<Coat> coat;
-
-  template <class Edit>
-  LayeredBird(int64_t follicles, Edit edit, float scale = 1.0f) : groom(io::read_groom_file(kBird + "bird.groom.yaml")) {
-    rest = io::read_obj_mesh(kBird + "bird.obj");
-    StrandSet stem_strands = io::read_strands(kBird + "stems.obj");
-    if (scale != 1.0f) {
-      for (Eigen::Vector3f &p : rest.positions) p *= scale;
-      rest.compute_normals();
-      for (Eigen::Vector3f &p : stem_strands.positions) p *= scale;
-      for (FeatherTemplate &t : groom.feathers.templates) {
-        for (float *v : {&t.calamus_length, &t.rachis_length, &t.rachis_width, &t.spacing_base, &t.spacing_tip,
-                         &t.barb_width})
-          *v *= scale;
-        for (VaneDesc *vane : {&t.left, &t.right}) {
-          vane->barb_length *= scale;
-          for (float &v : vane->silhouette.value) v *= scale;
-        }
-      }
-      for (KeyFeather &k : groom.feathers.key_feathers) k.radius *= scale;
-    }
-    edit(groom.feathers);
-    const MeshQuery query(rest);
-    stems = bind_guides(query, stem_strands, "stems.obj");
-    coat = std::make_unique<Coat>(rest, stems, groom.feathers,
-                                  scatter_follicles(rest, groom.feathers.follicles, {}, follicles));
-  }
-  Mesh pose(int frame) const {
-    char name[32];
-    std::snprintf(name, sizeof name, "anim/bird.%04d.obj", frame);
-    return io::read_obj_pose(kBird + name, rest);
-  }
-  CoatFrame grow(const Mesh &posed) const {
-    const MeshQuery posed_query(posed);
-    CoatFrame frame;
-    coat->grow(posed, posed_query, carry_guides(rest, posed, stems), frame);
-    return frame;
-  }
-};
+/// The bird with `follicles` feathers (a subset of its 5,000), its groom's feathers changed by an edit.
+using LayeredBird = test::BirdCoat;
 
 check::VaneCheckReport check_frame(const CoatFrame &frame) {
   return check::check_vanes(frame.vanes.positions, frame.vanes.triangles, frame.vanes.triangle_feathers);
-}
-
-size_t below_skin(const Mesh &posed, const CoatFrame &frame, float eps) {
-  const MeshQuery query(posed);
-  size_t below = 0;
-  for (const Eigen::Vector3f &p : frame.vanes.positions)
-    if (query.signed_distance(p) < -eps) ++below;
-  return below;
 }
 
 const auto kAsShipped = [](FeatherDesc &d) { d.layers = true; };
@@ -104,7 +48,7 @@ TEST_CASE("the checker finds vanes through each other without layering and none 
     CHECK(a.feather_pairs > 50);
     CHECK(b.feather_pairs == 0);
     CHECK(b.intersecting_triangle_pairs == 0);
-    CHECK(below_skin(posed, after, 1e-5f * 40.0f) == 0);
+    CHECK(test::vane_points_below_skin(posed, after, 1e-5f * 40.0f) == 0);
   }
 }
 
@@ -113,10 +57,11 @@ TEST_CASE("a higher feather lies under a lower one only where the layering pass 
   // The checker's rule (check/feather_layers.h: CGAL rays along the skin normal from every vane vertex,
   // independent of the pass's own rays) against the frozen order. The pass lifts every feather out
   // from under the lower ones it overlaps where a turn up to the skin normal does; where none does
-  // (a lower feather lifted steeply beside it, or one over it near its root), it takes the turn under
-  // the fewest and names the feather. Every violation must be one of those; and they are few: fewer
-  // than a third of the violations of the coat grown without the pass (measured on the 600-feather
-  // proxy: 158 of 525 at rest, 128 of 550 at frame 24, from 90 and 80 feathers named).
+  // (a lower feather lifted steeply beside it, or one over it near its root), it turns the feather
+  // aside (a yaw about the skin normal) where that takes it out, else takes the turn under the
+  // fewest and names the feather. Every violation must be one of those named; and they are few: fewer
+  // than a sixth of the violations of the coat grown without the pass (measured on the 600-feather
+  // proxy: 41 of 359 at rest, 20 of 393 at frame 24).
   const LayeredBird without(600, kNoLayers), with(600, kAsShipped);
   std::unordered_map<uint64_t, int64_t> rank;
   std::unordered_map<uint64_t, int32_t> index;
@@ -137,12 +82,14 @@ TEST_CASE("a higher feather lies under a lower one only where the layering pass 
     const std::vector<int32_t> &named = after.layering.unordered;
     INFO("frame " << frame_number << ": " << a.violations << " layer-order violations without the pass, "
                   << b.violations << " with; " << named.size() << " feathers named (" << after.layering.left_under
-                  << " left under, " << after.layering.unresolved << " shrunk)");
+                  << " left under, " << after.layering.unresolved << " shrunk), " << after.layering.turned_aside
+                  << " turned aside");
     CHECK(std::is_sorted(named.begin(), named.end()));
     CHECK(int64_t(named.size()) <= after.layering.left_under + after.layering.unresolved);
     CHECK(check_frame(after).feather_pairs == 0);
     CHECK(a.violations > 300);
-    CHECK(3 * b.violations < a.violations);
+    CHECK(6 * b.violations < a.violations);
+    CHECK(after.layering.turned_aside > 0);
     CHECK(named.size() * 5 < with.coat->size());
     for (const auto &[lower, higher] : b.examples) {
       INFO("feather " << higher << " under the lower " << lower);
@@ -168,8 +115,8 @@ TEST_CASE("a coat turned into itself is pulled apart: thin offsets, a dense patc
   const LayeredBird without(700, rotated_unlayered), with(700, rotated);
   const CoatFrame before = without.grow(without.rest), after = with.grow(with.rest);
   const check::VaneCheckReport a = check_frame(before), b = check_frame(after);
-  const size_t below_before = below_skin(without.rest, before, 1e-5f * 40.0f);
-  const size_t below_after = below_skin(with.rest, after, 1e-5f * 40.0f);
+  const size_t below_before = test::vane_points_below_skin(without.rest, before, 1e-5f * 40.0f);
+  const size_t below_after = test::vane_points_below_skin(with.rest, after, 1e-5f * 40.0f);
   INFO(a.feather_pairs << " pairs before, " << b.feather_pairs << " after; vane vertices below the skin "
                        << below_before << " before, " << below_after << " after");
   CHECK(a.feather_pairs > 200);

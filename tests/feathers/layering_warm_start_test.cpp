@@ -12,65 +12,19 @@
 #include <memory>
 
 #include "check/vanes.h"
+#include "feather_fixtures.h"
 #include "feathers/coat.h"
-#include "groom/guides.h"
 #include "groom/mesh_query.h"
-#include "io/groom_file.h"
-#include "io/obj_mesh.h"
-#include "io/strand_file.h"
 
 using namespace plume;
 using namespace plume::feathers;
 
 namespace {
 
-const std::string kBird = std::string(PLUME_SOURCE_DIR) + "/grooms/bird/";
-
 /// The bird in layers with `follicles` feathers (a subset of its 5,000), the stems carried by the skin.
-struct Bird {
-  GroomDesc groom;
-  Mesh rest;
-  Guides stems;
-  std::unique_ptr<Coat> coat;
-
-  explicit Bird(int64_t follicles) : groom(io::read_groom_file(kBird + "bird.groom.yaml")) {
-    rest = io::read_obj_mesh(kBird + "bird.obj");
-    groom.feathers.layers = true;
-    const MeshQuery query(rest);
-    stems = bind_guides(query, io::read_strands(kBird + "stems.obj"), "stems.obj");
-    coat = std::make_unique<Coat>(rest, stems, groom.feathers,
-                                  scatter_follicles(rest, groom.feathers.follicles, {}, follicles));
-  }
-  Mesh pose(int frame) const {
-    char name[32];
-    std::snprintf(name, sizeof name, "anim/bird.%04d.obj", frame);
-    return io::read_obj_pose(kBird + name, rest);
-  }
-  /// The pose a fraction `t` of the way from `a` to `b` (vertices blended linearly).
-  Mesh blend(const Mesh &a, const Mesh &b, float t) const {
-    Mesh posed = a;
-    for (size_t v = 0; v < posed.positions.size(); ++v)
-      posed.positions[v] = (1.0f - t) * a.positions[v] + t * b.positions[v];
-    posed.compute_normals();
-    return posed;
-  }
-  /// One frame, from `before` (null: stateless; with `layers_only`, only the skin pass starts from it).
-  CoatFrame grow(const Mesh &posed, const CoatFrame *before, bool layers_warm = true) const {
-    const MeshQuery query(posed);
-    CoatFrame frame;
-    coat->grow(posed, query, carry_guides(rest, posed, stems), frame, nullptr, before ? &before->skin_pass : nullptr,
-               before && layers_warm ? &before->layer_state : nullptr);
-    return frame;
-  }
+struct Bird : test::BirdCoat {
+  explicit Bird(int64_t follicles) : BirdCoat(follicles, test::layers_on) {}
 };
-
-size_t below_skin(const Mesh &posed, const CoatFrame &frame, float eps) {
-  const MeshQuery query(posed);
-  size_t below = 0;
-  for (const Eigen::Vector3f &p : frame.vanes.positions)
-    if (query.signed_distance(p) < -eps) ++below;
-  return below;
-}
 
 }  // namespace
 
@@ -110,7 +64,7 @@ TEST_CASE("with the warm start, no two feathers' vanes meet and none goes below 
                   << now.layering.left_under << " left under");
     CHECK(report.feather_pairs == 0);
     CHECK(report.intersecting_triangle_pairs == 0);
-    CHECK(below_skin(posed, now, 1e-5f * 40.0f) == 0);
+    CHECK(test::vane_points_below_skin(posed, now, 1e-5f * 40.0f) == 0);
     lifted += now.layering.lifted;
     before = std::move(now);
   }

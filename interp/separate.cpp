@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <unordered_map>
 
+#include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "groom/segment_distance.h"
 #include "skin/skin_grid.h"
@@ -440,7 +440,7 @@ SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, co
   SeparationStats stats;
   if (n < 2 || positions.size() < 2 * size_t(n) || !(tolerance > 0.0f)) return stats;
   if (!at_guide_root.empty() && at_guide_root.size() != positions.size() / size_t(n))
-    throw std::invalid_argument("separate_strands: one guide-root flag per strand expected");
+    throw InternalError("separate_strands: one guide-root flag per strand expected");
   Separator separator(positions, n, curves, tolerance, margin, mesh, skin_grid, lower, at_guide_root);
   constexpr int max_sweeps = 1000;
   const float detect = separation_detect * tolerance;

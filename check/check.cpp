@@ -194,8 +194,8 @@ GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *st
         guide_of[size_t(s)] = int64_t(g);
   }
   // Each guide as the curve through its points that Plume's growth follows (groom/guide_curve.h),
-  // sampled at 8 points per piece: a strand whose points lie on that curve deviates by nothing,
-  // where it leaves the guide's chords by their sag.
+  // sampled as growth samples it: a strand whose points lie on that curve deviates by nothing, where
+  // it leaves the guide's chords by their sag. A guide that runs low (guide_runs_low) is counted apart.
   std::vector<std::vector<Vector3f>> curves(guide_count);
   std::vector<uint8_t> used(guide_count, 0), low(guide_count, 0);
   for (const int64_t g : guide_of)
@@ -207,15 +207,9 @@ GuideDeviation measure_guide_deviation(const StrandSet &strands, const Roots *st
     const auto points = guides.strands.points(size_t(g));
     std::vector<CurvePiece> pieces;
     guide_curve(points, tiny, pieces);
-    curves[size_t(g)] = pieces.empty() ? std::vector<Vector3f>(points.begin(), points.end()) : sample_curve(pieces, 8);
-    // Low: into the skin, or back into the band once risen above it (every guide rooted on the skin
-    // starts in it).
-    bool risen = false;
-    for (size_t j = 1; j < curves[size_t(g)].size() && !low[size_t(g)]; ++j) {
-      const float distance = query.signed_distance(curves[size_t(g)][j]);
-      low[size_t(g)] = distance < 0.0f || (risen && distance < skin_band);
-      risen = risen || distance >= skin_band;
-    }
+    curves[size_t(g)] = pieces.empty() ? std::vector<Vector3f>(points.begin(), points.end())
+                                       : sample_curve(pieces, guide_curve_samples_per_piece);
+    low[size_t(g)] = guide_runs_low(curves[size_t(g)], query, skin_band);
   }
   std::vector<double> deviation(size_t(strand_count), -1.0), relative(size_t(strand_count), 0.0);
 #pragma omp parallel for schedule(dynamic, 64)

@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 
+#include "groom/mesh_query.h"
+
 namespace plume {
 
 void guide_curve(std::span<const Eigen::Vector3f> given, float tiny, std::vector<CurvePiece> &r_pieces) {
@@ -55,6 +57,19 @@ std::vector<Eigen::Vector3f> sample_curve(std::span<const CurvePiece> pieces, in
     for (int i = 0; i < per_piece; ++i) points.push_back(piece.at(float(i) / float(per_piece)));
   points.push_back(pieces.back().end);
   return points;
+}
+
+bool guide_runs_low(std::span<const Eigen::Vector3f> samples, const MeshQuery &query, float band,
+                    std::vector<float> *r_distances) {
+  if (r_distances) r_distances->clear();
+  bool risen = false;
+  for (size_t j = 0; j < samples.size(); ++j) {
+    const float distance = query.signed_distance(samples[j]);
+    if (r_distances) r_distances->push_back(distance);
+    if (j > 0 && (distance < 0.0f || (risen && distance < band))) return true;
+    risen = risen || distance >= band;
+  }
+  return false;
 }
 
 }  // namespace plume

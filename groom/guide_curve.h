@@ -8,6 +8,8 @@
 
 namespace plume {
 
+class MeshQuery;
+
 /// One piece of a guide's curve: the cubic Hermite curve between two consecutive distinct guide
 /// points, c(t) = a + b t + c t^2 + d t^3 for t in [0, 1], with the guide's unit tangent at both ends
 /// times the chord's length as end derivatives.
@@ -35,5 +37,17 @@ double curve_length(std::span<const CurvePiece> pieces);
 
 /// The curve at `per_piece` evenly spaced parameters per piece, and its last point.
 std::vector<Eigen::Vector3f> sample_curve(std::span<const CurvePiece> pieces, int per_piece);
+
+/// Samples per piece at which a guide's curve is followed and judged (growth's strands at guide
+/// roots, the checker's deviation and its low-guide rule): one sampling, so both see the same curve.
+inline constexpr int guide_curve_samples_per_piece = 16;
+
+/// Whether a guide's curve, sampled from its root (`samples`, e.g. sample_curve's), runs low: goes
+/// into the skin past its root, or comes back below `band` (the skin band of the growth) once risen
+/// to it (a guide rooted on the skin starts in the band). There the skin promise wins over following
+/// the guide: growth grows such a strand from the field, and the checker counts it apart. Fills
+/// r_distances, when given, with the samples' signed distances (up to the first low one).
+bool guide_runs_low(std::span<const Eigen::Vector3f> samples, const MeshQuery &query, float band,
+                    std::vector<float> *r_distances = nullptr);
 
 }  // namespace plume

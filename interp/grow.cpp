@@ -437,17 +437,14 @@ bool follow_guide(std::span<const Eigen::Vector3f> guide, const MeshQuery &query
                   std::vector<CurvePiece> &r_pieces, FinePolyline &r_fine, Eigen::Vector3f *r_points, float *r_lower) {
   guide_curve(guide, tiny, r_pieces);
   if (r_pieces.empty()) return false;
-  const std::vector<Eigen::Vector3f> curve = sample_curve(r_pieces, 16);
-  const float band = skin_band_margins * margin;
+  const std::vector<Eigen::Vector3f> curve = sample_curve(r_pieces, guide_curve_samples_per_piece);
+  std::vector<float> distances;
+  if (guide_runs_low(curve, query, skin_band_margins * margin, &distances)) return false;
   r_fine.clear();
-  bool risen = false;
   double total = 0.0;
   for (size_t j = 0; j < curve.size(); ++j) {
-    const float distance = query.signed_distance(curve[j]);
-    if (j > 0 && (distance < 0.0f || (risen && distance < band))) return false;
-    risen = risen || distance >= band;
     if (j > 0) total += double((curve[j] - curve[j - 1]).norm());
-    r_fine.add(curve[j], std::max(distance, 0.0f));
+    r_fine.add(curve[j], std::max(distances[j], 0.0f));
   }
   r_fine.resample_to(n, total, r_points, r_lower);
   return true;

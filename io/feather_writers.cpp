@@ -17,6 +17,7 @@ namespace plume::io {
 namespace {
 
 using detail::append_number;
+using detail::append_obj_vertices;
 using detail::append_string_literal;
 using detail::append_tuple;
 using detail::flush_block_if_full;
@@ -216,16 +217,7 @@ void write_vanes_obj(AtomicFile &file, const VaneMesh &v, const FeatherWriteOpti
   out += "# " + std::to_string(v.positions.size()) + " vertices, " + std::to_string(v.triangles.size()) +
          " triangles; texture coordinates " + (options.obj_uv_along_barbs ? "along the barbs" : "across the vane") +
          "; one group per feather\n";
-  for (const Eigen::Vector3f &p : v.positions) {
-    out += "v ";
-    append_number(out, p.x());
-    out += ' ';
-    append_number(out, p.y());
-    out += ' ';
-    append_number(out, p.z());
-    out += '\n';
-    flush_block_if_full(file, out);
-  }
+  append_obj_vertices(file, out, v.positions);
   const std::vector<Eigen::Vector2f> &uvs = options.obj_uv_along_barbs ? v.uv_barb : v.uv_vane;
   for (const Eigen::Vector2f &uv : uvs) {
     out += "vt ";

@@ -60,16 +60,7 @@ void write_obj_strands(AtomicFile &file, const StrandSet &strands, const StrandW
   }
   out += "# " + std::to_string(strands.strand_count()) + " strands, " + std::to_string(strands.point_count()) +
          " points, one l per segment\n";
-  for (const Eigen::Vector3f &p : strands.positions) {
-    out += "v ";
-    append_number(out, p.x());
-    out += ' ';
-    append_number(out, p.y());
-    out += ' ';
-    append_number(out, p.z());
-    out += '\n';
-    flush_block_if_full(file, out);
-  }
+  append_obj_vertices(file, out, strands.positions);
   for (size_t s = 0; s < strands.strand_count(); ++s)
     for (int64_t p = strands.offsets[s] + 1; p < strands.offsets[s + 1]; ++p) {
       out += "l ";

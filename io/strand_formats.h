@@ -8,6 +8,7 @@
 
 #include "groom/strand_set.h"
 #include "io/atomic_file.h"
+#include "io/file_scan.h"
 #include "io/strand_file.h"
 
 namespace plume::io::detail {
@@ -36,6 +37,20 @@ inline void flush_block_if_full(AtomicFile &file, std::string &block) {
   if (block.size() >= kWriteBlockBytes) {
     file.write(block);
     block.clear();
+  }
+}
+
+/// Appends one OBJ `v x y z` line per point to `block`, handing it to `file` in blocks.
+inline void append_obj_vertices(AtomicFile &file, std::string &block, std::span<const Eigen::Vector3f> points) {
+  for (const Eigen::Vector3f &p : points) {
+    block += "v ";
+    append_number(block, p.x());
+    block += ' ';
+    append_number(block, p.y());
+    block += ' ';
+    append_number(block, p.z());
+    block += '\n';
+    flush_block_if_full(file, block);
   }
 }
 

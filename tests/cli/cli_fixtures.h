@@ -132,4 +132,16 @@ inline std::string write_sintel_groom(const ScratchDir &scratch, const std::stri
   return path;
 }
 
+/// A rest-pose groom on the Sintel head whose one frame takes a while to write (4,000 strands x 64
+/// points, about 250k points: a .usda of several MB), for tests that stop or kill a run mid-write.
+inline std::string write_big_sintel_groom(const ScratchDir &scratch) {
+  const std::string path = scratch / "big.groom.yaml";
+  std::ofstream(path) << "plume: 1\n"
+                      << "emitter: {mesh: " << sintel_dir() << "/sintel.obj}\n"
+                      << "guides: {file: " << sintel_dir() << "/sintel_guides.hair}\n"
+                      << "roots: {count: 4000, near_guides: 2.0, seed: 3}\n"
+                      << "strands: {points: 64}\n";
+  return path;
+}
+
 }  // namespace plume::cli_test

@@ -124,13 +124,7 @@ TEST_CASE("an OMP_NUM_THREADS that is not a thread count is refused, naming the 
 
 TEST_CASE("the temporary file a run killed by SIGKILL left is removed by the next run of the same outputs", "[cli]") {
   ScratchDir scratch("kill9");
-  const std::string groom = scratch / "big.groom.yaml";
-  // About 250k points: a frame's .usda takes a while to write.
-  std::ofstream(groom) << "plume: 1\n"
-                       << "emitter: {mesh: " << sintel_dir() << "/sintel.obj}\n"
-                       << "guides: {file: " << sintel_dir() << "/sintel_guides.hair}\n"
-                       << "roots: {count: 4000, near_guides: 2.0, seed: 3}\n"
-                       << "strands: {points: 64}\n";
+  const std::string groom = write_big_sintel_groom(scratch);
   const fs::path out = scratch.path / "out";
   const std::string pattern = (out / "h.####.usda").string();
   const std::string frame1 = (out / "h.0001.usda").string();

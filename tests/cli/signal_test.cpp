@@ -38,13 +38,8 @@ TEST_CASE("regrow stopped by a signal while writing leaves no temporary file and
   const int signal_number = GENERATE(SIGTERM, SIGINT, SIGHUP);
   CAPTURE(signal_number);
   ScratchDir scratch("signal");
-  // About 250k points: the .usda is several MB, far more than the pipe below holds.
-  const std::string groom = scratch / "big.groom.yaml";
-  std::ofstream(groom) << "plume: 1\n"
-                       << "emitter: {mesh: " << sintel_dir() << "/sintel.obj}\n"
-                       << "guides: {file: " << sintel_dir() << "/sintel_guides.hair}\n"
-                       << "roots: {count: 4000, near_guides: 2.0, seed: 3}\n"
-                       << "strands: {points: 64}\n";
+  // Several MB of .usda, far more than the pipe below holds.
+  const std::string groom = write_big_sintel_groom(scratch);
   const std::string out_dir = scratch / "out";
   fs::create_directories(out_dir);
   const std::string out = out_dir + "/h.usda";

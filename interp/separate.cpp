@@ -59,15 +59,40 @@ class Separator {
   /// (`moved`, one flag per strand; all when empty).
   std::vector<std::pair<uint32_t, uint32_t>> near_among(const std::vector<std::pair<uint32_t, uint32_t>> &candidates,
                                                         float distance, const std::vector<uint8_t> &moved,
-                                                        std::vector<uint8_t> &r_near) const {
+                                                        std::vector<uint8_t> &r_near) {
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
     r_near.resize(candidates.size(), 0);
     const size_t per_strand = size_t(n_ - 1);
+    if (moved.empty()) {
+      // Every candidate, and each strand's candidates listed for the sweeps that follow.
 #pragma omp parallel for schedule(static, 1024)
-    for (int64_t c = 0; c < int64_t(candidates.size()); ++c) {
-      const auto &[u, v] = candidates[size_t(c)];
-      if (moved.empty() || moved[u / per_strand] || moved[v / per_strand])
+      for (int64_t c = 0; c < int64_t(candidates.size()); ++c) {
+        const auto &[u, v] = candidates[size_t(c)];
         r_near[size_t(c)] = near(u, v, distance, cos_angle);
+      }
+      listed_first_.assign(strand_count_ + 1, 0);
+      for (const auto &[u, v] : candidates) ++listed_first_[u / per_strand + 1], ++listed_first_[v / per_strand + 1];
+      for (size_t c = 0; c < strand_count_; ++c) listed_first_[c + 1] += listed_first_[c];
+      listed_.resize(listed_first_.back());
+      std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        listed_[next[candidates[c].first / per_strand]++] = uint32_t(c);
+        listed_[next[candidates[c].second / per_strand]++] = uint32_t(c);
+      }
+    } else {
+      // The candidates of the strands that moved, each once, in order.
+      std::vector<uint32_t> again;
+      for (size_t strand = 0; strand < strand_count_; ++strand)
+        if (moved[strand])
+          again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[strand]),
+                       listed_.begin() + std::ptrdiff_t(listed_first_[strand + 1]));
+      std::sort(again.begin(), again.end());
+      again.erase(std::unique(again.begin(), again.end()), again.end());
+#pragma omp parallel for schedule(static, 256) if (again.size() > 4096)
+      for (int64_t i = 0; i < int64_t(again.size()); ++i) {
+        const auto &[u, v] = candidates[again[size_t(i)]];
+        r_near[again[size_t(i)]] = near(u, v, distance, cos_angle);
+      }
     }
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (size_t c = 0; c < candidates.size(); ++c)
@@ -426,6 +451,10 @@ class Separator {
   std::vector<Eigen::Vector3f> original_;
   std::vector<Eigen::Vector3f> searched_;  // the points at the last search over all segments
   std::vector<float> largest_move_;        // per strand
+  // The candidates of each strand (indices into the candidate pairs), from near_among's full pass:
+  // listed_[listed_first_[s] .. listed_first_[s + 1]).
+  std::vector<size_t> listed_first_;
+  std::vector<uint32_t> listed_;
   size_t strand_count_ = 0;
   std::vector<float> arcs_;
   std::vector<float> floor_;

@@ -522,6 +522,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
   const bool streamline = settings.method == InterpolationSettings::Method::streamline;
   std::vector<std::vector<Eigen::Vector3f>> fine_curves(streamline && options.separate ? roots.size() : 0);
   std::vector<float> cuts(fine_curves.size(), 0.0f);
+  std::vector<uint8_t> at_guide_root(fine_curves.size(), 0);
 #pragma omp parallel reduction(&& : finite)
   {
     GrowStats counts;  // this thread's
@@ -580,6 +581,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           (frame.origins[size_t(slots[0].guide)] - root_frame.origin).norm() <= 1e-5f * binding.length_unit)
         on_guide = slots[0].guide;
 
+      if (on_guide >= 0 && !at_guide_root.empty()) at_guide_root[size_t(r)] = 1;
       if (settings.method == InterpolationSettings::Method::streamline) {
         const GuideField *field = frame.fields[size_t(binding.root_zones[size_t(r)])].get();
         if (field && !field->empty() && on_guide >= 0 &&
@@ -672,7 +674,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
     // their median segment.
     const float tolerance = 1e-3f * float(median_segment_length(r_strands));
     const SeparationStats separation =
-        separate_strands(r_strands.positions, n, curves, tolerance, margin, mesh, skin_grid, clearance);
+        separate_strands(r_strands.positions, n, curves, tolerance, margin, mesh, skin_grid, clearance, at_guide_root);
     stats.separated_pairs = separation.pairs_found;
     stats.unseparated_pairs = separation.pairs_left;
     stats.separation_points_moved = separation.points_moved;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "groom/error.h"
 #include "groom/mesh_query.h"
 #include "groom/segment_distance.h"
 #include "skin/skin_grid.h"
@@ -20,11 +21,23 @@ Vec to_d(const Eigen::Vector3f &v) { return v.cast<double>(); }
 class Separator {
  public:
   Separator(std::span<Eigen::Vector3f> positions, int n, const ExactCurves &curves, float tolerance, float margin,
-            const Mesh &mesh, const skin::SkinGrid &skin_grid, std::span<float> lower)
+            const Mesh &mesh, const skin::SkinGrid &skin_grid, std::span<float> lower,
+            std::span<const uint8_t> at_guide_root)
       : mesh_(mesh), positions_(positions), n_(n), curves_(curves), tolerance_(tolerance), margin_(margin), grid_(skin_grid),
-        lower_(lower), original_(positions.begin(), positions.end()),
-        largest_move_(separation_largest_move / 1e-3f * tolerance) {
+        lower_(lower), original_(positions.begin(), positions.end()), searched_(original_) {
     strand_count_ = positions.size() / size_t(n);
+    // Each strand's largest move: a strand at a guide root keeps to its guide; another may move a
+    // tenth of its own segment, within the bounds of the median segment (1e3 tolerances).
+    const float median = tolerance / 1e-3f;
+    largest_move_.resize(strand_count_);
+    for (size_t c = 0; c < strand_count_; ++c) {
+      float length = 0.0f;
+      for (int j = 1; j < n; ++j) length += (point(c, j) - point(c, j - 1)).norm();
+      const float own = separation_largest_move * length / float(n - 1);
+      largest_move_[c] = !at_guide_root.empty() && at_guide_root[c]
+                             ? separation_largest_move_at_guide * median
+                             : std::clamp(own, separation_largest_move_at_guide * median, separation_largest_move * median);
+    }
     // Each curve's arc lengths, for the windows round a meeting.
     arcs_.resize(curves.points.size());
     for (size_t c = 0; c < strand_count_; ++c) {
@@ -46,15 +59,40 @@ class Separator {
   /// (`moved`, one flag per strand; all when empty).
   std::vector<std::pair<uint32_t, uint32_t>> near_among(const std::vector<std::pair<uint32_t, uint32_t>> &candidates,
                                                         float distance, const std::vector<uint8_t> &moved,
-                                                        std::vector<uint8_t> &r_near) const {
+                                                        std::vector<uint8_t> &r_near) {
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
     r_near.resize(candidates.size(), 0);
     const size_t per_strand = size_t(n_ - 1);
+    if (moved.empty()) {
+      // Every candidate, and each strand's candidates listed for the sweeps that follow.
 #pragma omp parallel for schedule(static, 1024)
-    for (int64_t c = 0; c < int64_t(candidates.size()); ++c) {
-      const auto &[u, v] = candidates[size_t(c)];
-      if (moved.empty() || moved[u / per_strand] || moved[v / per_strand])
+      for (int64_t c = 0; c < int64_t(candidates.size()); ++c) {
+        const auto &[u, v] = candidates[size_t(c)];
         r_near[size_t(c)] = near(u, v, distance, cos_angle);
+      }
+      listed_first_.assign(strand_count_ + 1, 0);
+      for (const auto &[u, v] : candidates) ++listed_first_[u / per_strand + 1], ++listed_first_[v / per_strand + 1];
+      for (size_t c = 0; c < strand_count_; ++c) listed_first_[c + 1] += listed_first_[c];
+      listed_.resize(listed_first_.back());
+      std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        listed_[next[candidates[c].first / per_strand]++] = uint32_t(c);
+        listed_[next[candidates[c].second / per_strand]++] = uint32_t(c);
+      }
+    } else {
+      // The candidates of the strands that moved, each once, in order.
+      std::vector<uint32_t> again;
+      for (size_t strand = 0; strand < strand_count_; ++strand)
+        if (moved[strand])
+          again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[strand]),
+                       listed_.begin() + std::ptrdiff_t(listed_first_[strand + 1]));
+      std::sort(again.begin(), again.end());
+      again.erase(std::unique(again.begin(), again.end()), again.end());
+#pragma omp parallel for schedule(static, 256) if (again.size() > 4096)
+      for (int64_t i = 0; i < int64_t(again.size()); ++i) {
+        const auto &[u, v] = candidates[again[size_t(i)]];
+        r_near[again[size_t(i)]] = near(u, v, distance, cos_angle);
+      }
     }
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     for (size_t c = 0; c < candidates.size(); ++c)
@@ -68,12 +106,27 @@ class Separator {
     moved_.assign(strand_count_, 0);
     return moved;
   }
-  /// The most a point may move in all.
-  float largest_allowed() const { return largest_move_; }
+  /// The largest distance a point moved since the last search over all segments (mark_searched).
+  float drift() const {
+    float largest = 0.0f;
+    for (size_t k = 0; k < searched_.size(); ++k) largest = std::max(largest, (positions_[k] - searched_[k]).squaredNorm());
+    return std::sqrt(largest);
+  }
+  void mark_searched() { searched_.assign(positions_.begin(), positions_.end()); }
+  /// One flag per strand, set when a point of it is not where growth put it.
+  std::vector<uint8_t> ever_moved() const {
+    std::vector<uint8_t> flags(strand_count_, 0);
+    for (size_t k = 0; k < original_.size(); ++k)
+      if (positions_[k] != original_[k]) flags[k / size_t(n_)] = 1;
+    return flags;
+  }
+  size_t strand_of(uint32_t segment) const { return segment / size_t(n_ - 1); }
 
   /// Segment pairs (indices strand * (n - 1) + j, first < second) of different strands nearer than
-  /// `distance` (at an angle above the pass's unless `any_angle`), sorted.
-  std::vector<std::pair<uint32_t, uint32_t>> near_pairs(float distance, bool any_angle = false) const {
+  /// `distance` (at an angle above the pass's unless `any_angle`), sorted; with `active` (one flag per
+  /// strand), only the pairs with a segment of a flagged strand.
+  std::vector<std::pair<uint32_t, uint32_t>> near_pairs(float distance, bool any_angle = false,
+                                                        const std::vector<uint8_t> *active = nullptr) const {
     const size_t segments = strand_count_ * size_t(n_ - 1);
     // A uniform grid of cells about a median segment wide; each segment listed in the cells its box
     // (grown by `distance`) meets, in index order.
@@ -85,15 +138,25 @@ class Separator {
     auto key = [](int64_t x, int64_t y, int64_t z) {
       return uint64_t(x & 0x1fffff) | (uint64_t(y & 0x1fffff) << 21) | (uint64_t(z & 0x1fffff) << 42);
     };
-    auto box = [&](size_t u, Eigen::Array3i &r_lo, Eigen::Array3i &r_hi) {
+    // Each segment's box and the cells its box grown by `distance` meets.
+    std::vector<Eigen::Array3f> box_lo(segments), box_hi(segments);
+    std::vector<Eigen::Array3i> cell_lo(segments), cell_hi(segments);
+#pragma omp parallel for schedule(static, 4096)
+    for (int64_t su = 0; su < int64_t(segments); ++su) {
+      const size_t u = size_t(su);
       const Eigen::Vector3f a = end(u, 0), b = end(u, 1);
-      r_lo = ((a.cwiseMin(b).array() - distance) / cell).floor().cast<int>();
-      r_hi = ((a.cwiseMax(b).array() + distance) / cell).floor().cast<int>();
-    };
+      box_lo[u] = a.cwiseMin(b).array();
+      box_hi[u] = a.cwiseMax(b).array();
+      cell_lo[u] = ((box_lo[u] - distance) / cell).floor().cast<int>();
+      cell_hi[u] = ((box_hi[u] + distance) / cell).floor().cast<int>();
+    }
+    // The cells list every segment (of an active strand, with `active`), in index order; each
+    // segment looks up the cells its own box meets.
+    auto listed = [&](size_t u) { return !active || (*active)[u / size_t(n_ - 1)] != 0; };
     std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
     for (size_t u = 0; u < segments; ++u) {
-      Eigen::Array3i lo, hi;
-      box(u, lo, hi);
+      if (!listed(u)) continue;
+      const Eigen::Array3i &lo = cell_lo[u], &hi = cell_hi[u];
       for (int x = lo.x(); x <= hi.x(); ++x)
         for (int y = lo.y(); y <= hi.y(); ++y)
           for (int z = lo.z(); z <= hi.z(); ++z) cells[key(x, y, z)].push_back(uint32_t(u));
@@ -106,21 +169,26 @@ class Separator {
 #pragma omp for schedule(dynamic, 256)
       for (int64_t su = 0; su < int64_t(segments); ++su) {
         const size_t u = size_t(su);
-        Eigen::Array3i lo, hi;
-        box(u, lo, hi);
         const size_t strand = u / size_t(n_ - 1);
+        const bool u_listed = listed(u);
+        const Eigen::Array3i lo = cell_lo[u], hi = cell_hi[u];
+        const Eigen::Array3f ulo = box_lo[u] - distance, uhi = box_hi[u] + distance;
         for (int x = lo.x(); x <= hi.x(); ++x)
           for (int y = lo.y(); y <= hi.y(); ++y)
             for (int z = lo.z(); z <= hi.z(); ++z) {
               const auto found = cells.find(key(x, y, z));
+              if (found == cells.end()) continue;
               for (const uint32_t v : found->second) {
-                if (v <= u || v / size_t(n_ - 1) == strand) continue;
+                const size_t other = v / size_t(n_ - 1);
+                // Each pair once: from its first segment when both are listed.
+                if (other == strand || (u_listed && v <= u)) continue;
+                // The segments' own boxes, grown by the distance, must meet (a cheap test first).
+                if ((box_lo[v] > uhi).any() || (box_hi[v] < ulo).any()) continue;
                 // Counted in the first cell both boxes share, so each pair once.
-                Eigen::Array3i vlo, vhi;
-                box(v, vlo, vhi);
-                const Eigen::Array3i first = lo.max(vlo);
-                if ((first > hi.min(vhi)).any() || first.x() != x || first.y() != y || first.z() != z) continue;
-                if (near(u, v, distance, cos_angle)) mine.emplace_back(uint32_t(u), v);
+                const Eigen::Array3i first = lo.max(cell_lo[v]);
+                if (first.x() != x || first.y() != y || first.z() != z) continue;
+                if (near(u, v, distance, cos_angle))
+                  mine.emplace_back(uint32_t(std::min<size_t>(u, v)), uint32_t(std::max<size_t>(u, v)));
               }
             }
       }
@@ -163,8 +231,9 @@ class Separator {
       const Vec ua = (a1 - a0).normalized(), ub = (b1 - b0).normalized();
       const Vec normal = ua.cross(ub);
       const bool skew = normal.norm() > 1e-3 && std::abs(e.dot(normal.normalized())) >= 1e-3;
-      chosen = directions_.emplace(key, Chosen{skew ? Vec(e.dot(normal) >= 0.0 ? normal.normalized()
-                                                                               : Vec(-normal.normalized()))
+      const double side = e.dot(normal);
+      chosen = directions_.emplace(key, Chosen{skew ? Vec(side >= 0.0 ? normal.normalized()
+                                                                       : Vec(-normal.normalized()))
                                                     : e,
                                                skew}).first;
     }
@@ -203,26 +272,39 @@ class Separator {
         if (side < goal) want[k] = std::max(want[k], goal - side);
       }
     }
-    // Move what can move; what one strand cannot take, the other takes.
+    // Move what can move; what one strand cannot take (the part of its move the skin or its largest
+    // move refused, at its closest point), the other takes.
     const size_t index[4] = {sa * size_t(n_) + size_t(ia), sa * size_t(n_) + size_t(ia) + 1,
                              sb * size_t(n_) + size_t(ib), sb * size_t(n_) + size_t(ib) + 1};
     const bool is_root[4] = {ia == 0, false, ib == 0, false};
+    // A tip met at its end (s or t at 1 on a last segment): when it cannot move aside (a strand ended
+    // at the skin), it moves back along its own last segment, which parts it from the other strand.
+    const bool tip_met[4] = {false, ia == n_ - 2 && s >= 0.99, false, ib == n_ - 2 && t >= 0.99};
     bool moved_any = false;
-    double left_a = 0.0, left_b = 0.0;
+    double left[4] = {0.0, 0.0, 0.0, 0.0};
     for (int k = 0; k < 4; ++k) {
       if (want[k] <= 0.0 || is_root[k]) continue;
       const double sign = k < 2 ? 1.0 : -1.0;
-      if (try_move(index[k], (sign * want[k] * direction).cast<float>(), stats)) moved_any = true;
-      else (k < 2 ? left_a : left_b) = std::max(k < 2 ? left_a : left_b, want[k]);
+      const double achieved = try_move(index[k], (sign * want[k] * direction).cast<float>(), stats);
+      if (achieved > 0.0) moved_any = true;
+      if (achieved < 0.5 && tip_met[k] && retract(index[k], want[k] * (1.0 - achieved), stats)) {
+        moved_any = true;
+        continue;
+      }
+      left[k] = want[k] * (1.0 - achieved);
     }
-    // The other strand's far end takes what could not move (its nearer end when that is not a root).
+    const double left_a = (1.0 - s) * left[0] + s * left[1], left_b = (1.0 - t) * left[2] + t * left[3];
     if (left_a > 0.0) {
-      const int k = (t >= 0.5 || ib == 0) ? 3 : 2;
-      moved_any = try_move(index[k], (-left_a * direction).cast<float>(), stats) || moved_any;
+      double ends[2] = {0.0, 0.0};
+      spread(left_a, t, ib == 0, ends);
+      for (int e = 0; e < 2; ++e)
+        if (ends[e] > 0.0) moved_any = try_move(index[2 + e], (-ends[e] * direction).cast<float>(), stats) > 0.0 || moved_any;
     }
     if (left_b > 0.0) {
-      const int k = (s >= 0.5 || ia == 0) ? 1 : 0;
-      moved_any = try_move(index[k], (left_b * direction).cast<float>(), stats) || moved_any;
+      double ends[2] = {0.0, 0.0};
+      spread(left_b, s, ia == 0, ends);
+      for (int e = 0; e < 2; ++e)
+        if (ends[e] > 0.0) moved_any = try_move(index[e], (ends[e] * direction).cast<float>(), stats) > 0.0 || moved_any;
     }
     return moved_any;
   }
@@ -303,17 +385,31 @@ class Separator {
     r_last = hi;
   }
 
+  /// Moves tip k back along its strand's last segment by `distance` (at most a tenth of that
+  /// segment per call); false when the move is refused.
+  bool retract(size_t k, double distance, SeparationStats &stats) {
+    const Eigen::Vector3f back = positions_[k - 1] - positions_[k];
+    const float length = back.norm();
+    if (!(length > 0.0f)) return false;
+    const float step = std::min(float(distance), 0.1f * length);
+    if (try_move(k, back * (step / length), stats) < 0.5) return false;
+    ++stats.retracted;
+    return true;
+  }
+
   /// Moves point k by `delta` when it stays within its strand's largest move and out of the skin
-  /// by its floor; its bound follows.
-  bool try_move(size_t k, const Eigen::Vector3f &delta, SeparationStats &stats) {
+  /// by its floor; its bound follows. Returns the part of `delta` achieved (along it): 1 when moved
+  /// as asked, less when the skin took a part, 0 when refused.
+  double try_move(size_t k, const Eigen::Vector3f &delta, SeparationStats &stats) {
     const Eigen::Vector3f to = positions_[k] + delta;
-    if (!to.allFinite() || (to - original_[k]).norm() > largest_move_) return false;
+    const float largest = largest_move_[k / size_t(n_)];
+    if (!to.allFinite() || !(delta.squaredNorm() > 0.0f) || (to - original_[k]).norm() > largest) return 0.0;
     float bound = lower_[k] - delta.norm();
     if (bound >= floor_[k]) {
       moved_[k / size_t(n_)] = 1;
       positions_[k] = to;
       lower_[k] = bound;
-      return true;
+      return 1.0;
     }
     // Near the skin: queried; a move into it loses its part along the skin's normal there (the
     // offset from the closest point) and rises by a tenth of its length, so that a strand lying
@@ -329,14 +425,14 @@ class Separator {
       moved += 0.1f * moved.norm() * normal;  // and rises a little, so that the skin's turn cannot take it in
     }
     const Eigen::Vector3f target = from + moved;
-    if ((target - original_[k]).norm() > largest_move_) return false;
+    if (!target.allFinite() || (target - original_[k]).norm() > largest) return 0.0;
     bound = grid_.signed_distance(target, closest.triangle, closest);
-    if (!(bound >= floor_[k])) return false;
+    if (!(bound >= floor_[k])) return 0.0;
     ++stats.slid;
     moved_[k / size_t(n_)] = 1;
     positions_[k] = target;
     lower_[k] = bound;
-    return true;
+    return std::clamp(double(moved.dot(delta)) / double(delta.squaredNorm()), 0.0, 1.0);
   }
 
   struct Chosen {
@@ -353,7 +449,12 @@ class Separator {
   const skin::SkinGrid &grid_;
   std::span<float> lower_;
   std::vector<Eigen::Vector3f> original_;
-  float largest_move_;
+  std::vector<Eigen::Vector3f> searched_;  // the points at the last search over all segments
+  std::vector<float> largest_move_;        // per strand
+  // The candidates of each strand (indices into the candidate pairs), from near_among's full pass:
+  // listed_[listed_first_[s] .. listed_first_[s + 1]).
+  std::vector<size_t> listed_first_;
+  std::vector<uint32_t> listed_;
   size_t strand_count_ = 0;
   std::vector<float> arcs_;
   std::vector<float> floor_;
@@ -364,16 +465,22 @@ class Separator {
 
 SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, const ExactCurves &curves,
                                  float tolerance, float margin, const Mesh &mesh, const skin::SkinGrid &skin_grid,
-                                 std::span<float> lower) {
+                                 std::span<float> lower, std::span<const uint8_t> at_guide_root) {
   SeparationStats stats;
   if (n < 2 || positions.size() < 2 * size_t(n) || !(tolerance > 0.0f)) return stats;
-  Separator separator(positions, n, curves, tolerance, margin, mesh, skin_grid, lower);
-  constexpr int max_sweeps = 100;
+  if (!at_guide_root.empty() && at_guide_root.size() != positions.size() / size_t(n))
+    throw InternalError("separate_strands: one guide-root flag per strand expected");
+  Separator separator(positions, n, curves, tolerance, margin, mesh, skin_grid, lower, at_guide_root);
+  constexpr int max_sweeps = 1000;
   const float detect = separation_detect * tolerance;
-  // Every pair that can come within `detect` while each point moves at most the allowed distance,
-  // found once; each sweep measures these alone.
-  const std::vector<std::pair<uint32_t, uint32_t>> candidates =
-      separator.near_pairs(detect + 2.0f * separator.largest_allowed(), true);
+  // Every pair that can come within `detect` while each point moves at most `slack` (30 tolerances:
+  // on Sintel, fewer searches cost more in pairs measured, more cost more in searches), found over
+  // all segments; each sweep measures these alone, until a point has drifted farther than `slack`
+  // since: then they are found again.
+  const float slack = 30.0f * tolerance;
+  const std::vector<std::pair<uint32_t, uint32_t>> initial = separator.near_pairs(detect + 2.0f * slack, true);
+  std::vector<std::pair<uint32_t, uint32_t>> candidates = initial;
+  stats.searches = 1;
   std::vector<uint8_t> is_near;
   std::vector<std::pair<uint32_t, uint32_t>> pairs = separator.near_among(candidates, detect, {}, is_near);
   stats.pairs_found = int64_t(pairs.size());
@@ -381,7 +488,23 @@ SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, co
     ++stats.sweeps;
     bool moved = false;
     for (const auto &[u, v] : pairs) moved = separator.push(u, v, stats) || moved;
-    pairs = separator.near_among(candidates, detect, separator.take_moved(), is_near);
+    if (separator.drift() > slack) {
+      // Found again: the pairs of two strands that never moved are as they were at the first
+      // search; those with a moved strand are searched at the points' places now.
+      const std::vector<uint8_t> active = separator.ever_moved();
+      candidates = separator.near_pairs(detect + 2.0f * slack, true, &active);
+      for (const auto &pair : initial)
+        if (!active[separator.strand_of(pair.first)] && !active[separator.strand_of(pair.second)])
+          candidates.push_back(pair);
+      std::sort(candidates.begin(), candidates.end());
+      separator.mark_searched();
+      ++stats.searches;
+      is_near.clear();
+      separator.take_moved();
+      pairs = separator.near_among(candidates, detect, {}, is_near);
+    } else {
+      pairs = separator.near_among(candidates, detect, separator.take_moved(), is_near);
+    }
     if (!moved) break;
   }
   stats.pairs_left = int64_t(separator.near_among(candidates, tolerance, {}, is_near).size());

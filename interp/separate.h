@@ -29,21 +29,27 @@ struct ExactCurves {
 /// Distances of the pass, as multiples of the checker's default crossing tolerance (a thousandth of
 /// the strands' median segment).
 inline constexpr float separation_detect = 2.0f;  // pairs nearer than this are moved apart...
-inline constexpr float separation_goal = 3.0f;    // ... to at least this along their exact side
+inline constexpr float separation_goal = 5.0f;    // ... to at least this along their exact side
 /// Segment pairs at an angle below this (degrees) are left alone (the checker's transversal angle
 /// is 10 degrees; nearly parallel strands lying on each other are touching, not crossing).
 inline constexpr float separation_angle_degrees = 6.0f;
-/// A point is moved by at most this fraction of the strands' median segment in all (20 times the
-/// checker's tolerance).
-inline constexpr float separation_largest_move = 0.02f;
+/// A point of a strand at a guide root (which reproduces its guide within 0.1% of its length) is
+/// moved by at most this fraction of the strands' median segment in all (20 times the checker's
+/// tolerance)...
+inline constexpr float separation_largest_move_at_guide = 0.02f;
+/// ... any other point by at most this fraction of its own strand's segment (its written length over
+/// n - 1), and never more than this fraction of the median segment nor less than the one above.
+inline constexpr float separation_largest_move = 0.1f;
 
 /// What the pass did.
 struct SeparationStats {
   int64_t pairs_found = 0;   // segment pairs within separation_detect at the first sweep
   int64_t pairs_left = 0;    // segment pairs still within the checker's tolerance after the last sweep
   int64_t points_moved = 0;  // written points moved (each counted once)
-  int64_t undecided = 0;
-  int64_t slid = 0;          // moves near the skin that lost their part into it     // pairs whose exact curves were themselves too close to tell a side
+  int64_t undecided = 0;     // pairs whose exact curves were themselves too close to tell a side
+  int64_t slid = 0;          // moves near the skin that lost their part into it
+  int64_t retracted = 0;     // tips moved back along their own last segment (a tip at the skin)
+  int searches = 0;          // searches of the pairs over all segments (again when points drifted far)
   int sweeps = 0;
   float largest_move = 0.0f;  // the largest distance a point moved, in scene units
 };
@@ -55,11 +61,14 @@ struct SeparationStats {
 /// own (their closest points within one segment of the meeting), so the written polylines keep the
 /// sides their curves have, and a planar set of strands stays in its plane. Roots never move; a point
 /// is moved only where its signed distance to the skin stays at least min(margin, its bound) (the
-/// bound, `lower`, #strands * n, is lowered by the move, or set from a query), and at most
-/// separation_largest_move of its strand's median segment. Sweeps until no pair is left (at most a
-/// fixed number). Sequential over sorted pairs: the same result for any thread count.
+/// bound, `lower`, #strands * n, is lowered by the move, or set from a query), and at most its
+/// strand's largest move: separation_largest_move_at_guide of the median segment for a strand flagged
+/// in `at_guide_root` (#strands, or empty: none), else separation_largest_move of its own segment
+/// within those bounds. A tip that cannot move aside (a strand ended at the skin) may move back along
+/// its own last segment instead. Sweeps until no pair is left (at most a fixed number). Sequential over
+/// sorted pairs: the same result for any thread count.
 SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, const ExactCurves &curves,
                                  float tolerance, float margin, const Mesh &mesh, const skin::SkinGrid &skin_grid,
-                                 std::span<float> lower);
+                                 std::span<float> lower, std::span<const uint8_t> at_guide_root = {});
 
 }  // namespace plume::interp

@@ -82,7 +82,9 @@ check(!/(?:src|href)\s*=\s*["']?(?:https?:)?\/\//i.test(html), 'the page referen
 check(/three\.js authors/i.test(html) && /Permission is hereby granted/.test(html), "the page keeps three.js's licence");
 
 // The checker's counts on the page are plume check's on the same strands (frame 1: the rest pose,
-// where the emitter OBJ is the skin).
+// where the emitter OBJ is the skin). At tolerance 0.01 (about 11 times the default, a thousandth of
+// the median segment) the page has pairs to flag: the groom's separation pass parts the strands
+// to 5 default tolerances, so at the default there are none (checked below), at 0.01 some remain.
 const sintelMesh = join(dirname(resolve(args.groom)), 'sintel.obj');
 const checked = plume('check', join(work, 'hair.0001.hair'), '--mesh', sintelMesh, '--tolerance', '0.01');
 const inside = Number(checked.match(/points inside the skin \(margin 0\): (\d+)/)[1]);
@@ -91,6 +93,9 @@ const frame1 = manifest.check.frames[0];
 check(frame1.points_inside === inside && frame1.transversal_pairs === transversal && frame1.touching_pairs === touching && transversal > 0,
   `the page's frame 1 check is plume check's: ${frame1.points_inside} points inside (${inside}), ` +
   `${frame1.transversal_pairs} transversal (${transversal}) and ${frame1.touching_pairs} touching (${touching}) crossing pairs`);
+const atDefault = plume('check', join(work, 'hair.0001.hair'), '--mesh', sintelMesh);
+const defaultTransversal = Number(atDefault.match(/crossing strand pairs \(tolerance [0-9.e-]+\): (\d+) transversal/)[1]);
+check(defaultTransversal === 0, `at the default tolerance, no transversal pair (${defaultTransversal}): the separation pass is on`);
 const flags = arrays[frame1.flags];
 check(flags.filter((f) => f & 2).length === frame1.strands_flagged && frame1.transversal_flagged === transversal &&
   frame1.touching_flagged === touching && flags.some((f) => f === 4),

@@ -390,6 +390,8 @@ GroomView view_groom(const GroomDesc &groom, const StrandSet &strands, const Mes
   pipeline_options.roots = view.roots;
   pipeline_options.guides_cache = args.guides_cache;
   pipeline_options.simulation_start = std::min(groom_first_frame(groom), frame);
+  // Without effects only the regrown roots and guides are read: the separation pass moves neither.
+  pipeline_options.separate = !groom.effects.empty();
   view.pipeline = std::make_unique<Pipeline>(groom, pipeline_options);
   view.pipeline->check_frame_inputs(FrameRange{frame, frame, 1});
   FrameResult before = view.pipeline->produce(frame, false);

@@ -278,7 +278,7 @@ FrameResult Pipeline::produce(int frame, bool with_effects) {
   grow_options.width_root = groom_.width_root;
   grow_options.width_tip = groom_.width_tip;
   grow_options.with_widths = true;
-  grow_options.separate = groom_.interpolation.separate;
+  grow_options.separate = groom_.interpolation.separate && options_.separate;
   // Growth's skin bounds let the stack's closing skin pass skip the points it moved by less; both
   // search the skin through one grid built for this frame.
   std::vector<float> clearance;

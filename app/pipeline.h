@@ -64,6 +64,9 @@ struct PipelineOptions {
   /// When set, these roots (surface points of the emitter, with their ids) are grown instead of
   /// the groom's own, and strand_count is ignored: `plume check` regrows the roots of a strand file.
   std::optional<Roots> roots;
+  /// False: growth leaves out the groom's separation pass (interpolation.separate). `plume check`
+  /// regrows a groom without effects only to find the strands' roots, which the pass never moves.
+  bool separate = true;
 };
 
 /// One produced frame, emitter object space.

@@ -1095,28 +1095,39 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       size_t aside_witness = SIZE_MAX;
       std::vector<Triangle> aside_triangles(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> aside_boxes(mine.triangles.size());
+      std::vector<Eigen::AlignedBox3d> aside_group_boxes(mine.group_boxes.size());
+      // Per vertex, where the skin was last asked for it by a move and its signed distance there.
+      std::vector<std::pair<Vec, double>> aside_known;
       auto clear_moved = [&](const Eigen::Matrix3d &move) {
         const auto moved_point = [&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); };
         Eigen::AlignedBox3d all;
+        for (Eigen::AlignedBox3d &box : aside_group_boxes) box.setEmpty();
         for (size_t t = 0; t < mine.triangles.size(); ++t) {
           aside_boxes[t].setEmpty();
           for (size_t v = 0; v < 3; ++v) {
             aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
             aside_boxes[t].extend(aside_triangles[t][v]);
           }
+          aside_group_boxes[t / kGroup].extend(aside_boxes[t]);
           all.extend(aside_boxes[t]);
         }
+        // Pairs of groups first (a triangle's box lies in its group's, so a pair of triangles whose
+        // groups' boxes are apart is apart too).
         const auto vanes_meet = [&](size_t l) {
           const FeatherVanes &f = *lower[l];
           if (apart(all, f.box)) return false;
-          for (size_t t = 0; t < aside_triangles.size(); ++t) {
-            if (apart(aside_boxes[t], f.box)) continue;
+          for (size_t m = 0; m < aside_group_boxes.size(); ++m) {
+            if (apart(aside_group_boxes[m], f.box)) continue;
+            const size_t mine_end = std::min(aside_triangles.size(), m * kGroup + kGroup);
             for (size_t g = 0; g < f.group_boxes.size(); ++g) {
-              if (apart(aside_boxes[t], f.group_boxes[g])) continue;
+              if (apart(aside_group_boxes[m], f.group_boxes[g])) continue;
               const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
-              for (size_t u = g * kGroup; u < group_end; ++u)
-                if (!apart(aside_boxes[t], f.boxes[u]) && too_close(aside_triangles[t], f.triangles[u], gap2))
-                  return true;
+              for (size_t t = m * kGroup; t < mine_end; ++t) {
+                if (apart(aside_boxes[t], f.group_boxes[g])) continue;
+                for (size_t u = g * kGroup; u < group_end; ++u)
+                  if (!apart(aside_boxes[t], f.boxes[u]) && too_close(aside_triangles[t], f.triangles[u], gap2))
+                    return true;
+              }
             }
           }
           return false;
@@ -1128,12 +1139,22 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             return false;
           }
         aside_vertices.resize(size_t(v1 - v0));
+        if (closed_skin && aside_known.empty()) aside_known.assign(size_t(v1 - v0), {Vec::Zero(), -1.0});
         for (int64_t x = v0; x < v1; ++x) {
           const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
-          aside_vertices[size_t(x - v0)] = moved_point(p);
-          if (skin && (p - mine.root).norm() > double(options.root_disc) * mine.extent &&
-              skin_distance(aside_vertices[size_t(x - v0)], mine_skin[size_t(x - v0)]) < 0.0)
+          const Vec &q = aside_vertices[size_t(x - v0)] = moved_point(p);
+          if (!skin || (p - mine.root).norm() <= double(options.root_disc) * mine.extent) continue;
+          // On a closed skin, a vertex that has not moved as far as it was from the skin the last
+          // time it was asked here is still out (as below_skin's bound).
+          if (closed_skin) {
+            auto &[last, distance] = aside_known[size_t(x - v0)];
+            if (distance > (q - last).norm() + skin_slack) continue;
+            last = q;
+            distance = skin_distance(q, mine_skin[size_t(x - v0)]);
+            if (distance < 0.0) return false;
+          } else if (skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0) {
             return false;
+          }
         }
         for (const int64_t x : outward)
           if (under_lower_at(aside_vertices[size_t(x - v0)], x, all_lower.data(), all_lower.data() + all_lower.size(),

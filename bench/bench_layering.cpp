@@ -47,7 +47,8 @@ double load_average() {
 }  // namespace
 
 // Arguments (all optional), to time one part: feather counts, then "--frames" and frame numbers, then
-// "--threads" and thread counts; e.g. `bench_layering 1000 --frames 1 --threads 2`.
+// "--threads" and thread counts; e.g. `bench_layering 1000 --frames 1 --threads 2`. `--frames 0`
+// times the binding alone (the order at rest), with the threads OpenMP is given.
 int main(int argc, char **argv) {
   std::vector<int> counts, frames, thread_counts;
   std::vector<int> *into = &counts;
@@ -88,6 +89,12 @@ int main(int argc, char **argv) {
     const bool every = chosen || count < 25000;
     if (count_frames.empty()) count_frames = every ? std::vector<int>{1, 12, 24} : std::vector<int>{1};
     if (count_threads.empty()) count_threads = every ? std::vector<int>{1, 2} : std::vector<int>{2};
+    if (count_frames == std::vector<int>{0}) {
+      std::printf("%-9d %6s %8d %8.2f %10s %10s %9s %9s %9s %10s %10s %8s %10s %8s %6.2f\n", count, "-",
+                  omp_get_max_threads(), bind, "-", "-", "-", "-", "-", "-", "-", "-", "-", "", load_average());
+      std::fflush(stdout);
+      continue;
+    }
     for (const int frame : count_frames) {
       char name[32];
       std::snprintf(name, sizeof name, "anim/bird.%04d.obj", frame);

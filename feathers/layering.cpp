@@ -225,27 +225,135 @@ std::vector<int32_t> order_by_x(const std::vector<Vec> &roots) {
   return by_x;
 }
 
-/// Pairs of feathers whose spheres (root, extent) meet, found by a sweep along x: per feather, the
-/// others it may touch (sorted).
-std::vector<std::vector<int32_t>> sphere_neighbours(const std::vector<Vec> &roots, const std::vector<double> &extents) {
-  const size_t n = roots.size();
-  const std::vector<int32_t> by_x = order_by_x(roots);
-  const double largest = n ? *std::max_element(extents.begin(), extents.end()) : 0.0;
-  std::vector<std::vector<int32_t>> out(n);
-  for (size_t a = 0; a < n; ++a) {
-    const size_t i = size_t(by_x[a]);
-    for (size_t b = a + 1; b < n; ++b) {
-      const size_t j = size_t(by_x[b]);
-      if (roots[j].x() - roots[i].x() > extents[i] + largest) break;
-      if ((roots[j] - roots[i]).norm() <= extents[i] + extents[j]) {
-        out[i].push_back(int32_t(j));
-        out[j].push_back(int32_t(i));
+/// A bounding volume hierarchy over every feather's triangle groups, for the rays of the order at
+/// rest: a ray meets only the groups whose boxes it passes, found by descending the tree, where
+/// testing every feather near its origin made the order's time grow with the square of the feather
+/// count (the feathers near a vertex grow with the count, as the coat thickens).
+class GroupTree {
+ public:
+  explicit GroupTree(const std::vector<FeatherVanes> &vanes) {
+    Eigen::AlignedBox3d all;
+    double largest = 0.0;
+    for (size_t i = 0; i < vanes.size(); ++i)
+      for (size_t g = 0; g < vanes[i].group_boxes.size(); ++g) {
+        all.extend(vanes[i].group_boxes[g]);
+        largest = std::max(largest, vanes[i].extent);
+      }
+    if (all.isEmpty()) return;
+    // Boxes are grown by far more than segment_meets_box's margin (1e-9 of the sizes and coordinates)
+    // and the slab test's rounding (about 1e-16 of them), so that a group whose box a segment meets
+    // by segment_meets_box is never skipped.
+    const double pad = 1e-6 * ((all.max() - all.min()).norm() + all.max().cwiseAbs().maxCoeff() +
+                               all.min().cwiseAbs().maxCoeff() + largest);
+    for (size_t i = 0; i < vanes.size(); ++i)
+      for (size_t g = 0; g < vanes[i].group_boxes.size(); ++g) {
+        Leaf leaf;
+        leaf.box = vanes[i].group_boxes[g];
+        leaf.box.min().array() -= pad;
+        leaf.box.max().array() += pad;
+        leaf.reach = vanes[i].extent;
+        leaf.feather = int32_t(i);
+        leaf.group = int32_t(g);
+        leaves_.push_back(leaf);
+      }
+    nodes_.resize(1);
+    fill(0, 0, leaves_.size());
+  }
+
+  /// Calls visit(feather, group) for every group whose box (grown as above) the segment from `origin`
+  /// along the unit `direction`, as long as the group's feather's extent, meets: every group whose box
+  /// segment_meets_box finds that segment meeting, and a few more.
+  template <class Visit>
+  void for_each_met(const Vec &origin, const Vec &direction, Visit &&visit) const {
+    if (nodes_.empty()) return;
+    const Vec inverse = direction.cwiseInverse();
+    size_t stack[64];
+    size_t top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node &node = nodes_[stack[--top]];
+      if (!segment_meets(origin, direction, inverse, node.reach, node.box)) continue;
+      if (node.count == 0) {
+        stack[top++] = size_t(node.first);
+        stack[top++] = size_t(node.first) + 1;
+        continue;
+      }
+      for (size_t l = size_t(node.first); l < size_t(node.first + node.count); ++l) {
+        const Leaf &leaf = leaves_[l];
+        if (segment_meets(origin, direction, inverse, leaf.reach, leaf.box))
+          visit(size_t(leaf.feather), size_t(leaf.group));
       }
     }
   }
-  for (std::vector<int32_t> &list : out) std::sort(list.begin(), list.end());
-  return out;
-}
+
+ private:
+  static constexpr size_t kLeafSize = 4;
+  struct Leaf {
+    Eigen::AlignedBox3d box;  // the group's, grown
+    double reach = 0.0;       // its feather's extent
+    int32_t feather = 0, group = 0;
+  };
+  struct Node {
+    Eigen::AlignedBox3d box;  // of its leaves' boxes
+    double reach = 0.0;       // the largest of their reaches
+    int32_t first = 0;        // with leaves: the first of them; else its children, first and first + 1
+    int32_t count = 0;        // its leaves (0: it has children)
+  };
+
+  /// Whether the segment from `origin` along the unit `direction` (`inverse` its components'
+  /// inverses), `length` long, meets `box` (slabs, parameterised by the distance along it).
+  static bool segment_meets(const Vec &origin, const Vec &direction, const Vec &inverse, double length,
+                            const Eigen::AlignedBox3d &box) {
+    double t0 = 0.0, t1 = length;
+    for (int a = 0; a < 3; ++a) {
+      if (direction[a] == 0.0) {
+        if (origin[a] < box.min()[a] || origin[a] > box.max()[a]) return false;
+        continue;
+      }
+      double u = (box.min()[a] - origin[a]) * inverse[a], v = (box.max()[a] - origin[a]) * inverse[a];
+      if (u > v) std::swap(u, v);
+      t0 = std::max(t0, u);
+      t1 = std::min(t1, v);
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+
+  /// Fills node `index` (already in nodes_) for leaves [begin, end): their box and reach, and either
+  /// the leaves themselves or two children appended as a pair, the leaves split at their median
+  /// along the longest axis of their centers' box.
+  void fill(size_t index, size_t begin, size_t end) {
+    Node node;
+    Eigen::AlignedBox3d spread;
+    for (size_t l = begin; l < end; ++l) {
+      node.box.extend(leaves_[l].box);
+      node.reach = std::max(node.reach, leaves_[l].reach);
+      spread.extend(leaves_[l].box.center());
+    }
+    if (end - begin <= kLeafSize) {
+      node.first = int32_t(begin);
+      node.count = int32_t(end - begin);
+      nodes_[index] = node;
+      return;
+    }
+    int axis = 0;
+    (spread.max() - spread.min()).maxCoeff(&axis);
+    const size_t middle = begin + (end - begin) / 2;
+    std::nth_element(leaves_.begin() + std::ptrdiff_t(begin), leaves_.begin() + std::ptrdiff_t(middle),
+                     leaves_.begin() + std::ptrdiff_t(end), [&](const Leaf &a, const Leaf &b) {
+                       const double ca = a.box.center()[axis], cb = b.box.center()[axis];
+                       return ca < cb || (ca == cb && std::tie(a.feather, a.group) < std::tie(b.feather, b.group));
+                     });
+    node.first = int32_t(nodes_.size());
+    nodes_[index] = node;
+    nodes_.resize(nodes_.size() + 2);
+    fill(size_t(node.first), begin, middle);
+    fill(size_t(node.first) + 1, middle, end);
+  }
+
+  std::vector<Node> nodes_;
+  std::vector<Leaf> leaves_;
+};
 
 /// Per feather, the lower ones (by `rank`) it may touch or lie under at any lift: those whose roots
 /// lie within its extent plus twice theirs, or within the two extents plus its gap (`offset` times
@@ -286,74 +394,98 @@ LayerOrder layer_order_from_coverage(const CoatFrame &rest, const FeatherRanges 
                         std::to_string(n) + " feathers");
   std::vector<FeatherVanes> vanes(n);
   std::vector<Vec> roots(n);
-  std::vector<double> extents(n), reaches(n);
+  std::vector<double> extents(n);
 #pragma omp parallel for schedule(dynamic, 16)
   for (int64_t i = 0; i < int64_t(n); ++i) {
     vanes[size_t(i)] = feather_vanes(rest, ranges, size_t(i), 0.0f);
     roots[size_t(i)] = vanes[size_t(i)].root;
     extents[size_t(i)] = vanes[size_t(i)].extent;
-    reaches[size_t(i)] = 2.0 * extents[size_t(i)];
   }
-  // A vertex of j (within j's extent of its root) meets i's vanes within i's extent of the vertex and
-  // of i's root: the roots lie within twice i's extent plus j's, so within the doubled extents.
-  const std::vector<std::vector<int32_t>> near = sphere_neighbours(roots, reaches);
-  // Whether the ray from `origin` along the unit `direction` meets feather i's vanes within its extent
-  // (farther than `from`): boxes first, then Moller-Trumbore.
-  const auto meets = [&](const Vec &origin, const Vec &direction, size_t i, double from) {
+  const GroupTree tree(vanes);
+  // Whether the ray from `origin` along the unit `direction` meets group g of feather i's vanes
+  // within i's extent (farther than `from`): boxes first, then Moller-Trumbore. The ray meets i's
+  // vanes when it meets one of its groups.
+  const auto meets = [&](const Vec &origin, const Vec &direction, size_t i, size_t g, double from) {
     const FeatherVanes &f = vanes[i];
     const Vec end = origin + f.extent * direction;
-    if (!segment_meets_box(origin, end, f.box)) return false;
-    for (size_t g = 0; g < f.group_boxes.size(); ++g) {
-      if (!segment_meets_box(origin, end, f.group_boxes[g])) continue;
-      const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
-      for (size_t k = g * kGroup; k < group_end; ++k) {
-        const double along = ray_crossing(origin, direction, f.triangles[k]);
-        if (along > from && along <= extents[i]) return true;
-      }
+    if (!segment_meets_box(origin, end, f.group_boxes[g]) || !segment_meets_box(origin, end, f.box)) return false;
+    const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
+    for (size_t k = g * kGroup; k < group_end; ++k) {
+      const double along = ray_crossing(origin, direction, f.triangles[k]);
+      if (along > from && along <= extents[i]) return true;
     }
     return false;
   };
-  // covers[i]: the feathers whose roots i's vanes cover (the ray from the root along the skin normal
-  // meets them). over[j]: per feather i met on the way out from a vertex of j's vanes outside its
-  // root disc (along the skin normal at the vertex's closest skin point, as the checker takes it),
-  // how many of j's vertices it is met from: i lies over j there.
-  std::vector<std::vector<int32_t>> covers(n);
+  // root_covered_by[j]: the feathers whose vanes cover j's root (the ray from the root along the skin
+  // normal meets them, their spheres (root, extent) meeting j's). over[j]: per feather i met on the
+  // way out from a vertex of j's vanes outside its root disc (along the skin normal at the vertex's
+  // closest skin point, as the checker takes it), the nearest such vertex to j's root (a fraction of
+  // j's extent): i lies over j there. Only feathers within twice the two extents of j's root are
+  // asked: a vertex of j lies within j's extent of its root, and where the way out meets i it is
+  // within i's extent of the vertex and of i's root.
+  std::vector<std::vector<int32_t>> root_covered_by(n);
   std::vector<std::vector<std::pair<int32_t, double>>> over(n);
-#pragma omp parallel for schedule(dynamic, 16)
-  for (int64_t fj = 0; fj < int64_t(n); ++fj) {
-    const size_t j = size_t(fj);
-    const Vec origin = roots[j], direction = rest.root_frames[j].normal().cast<double>();
-    for (const int32_t i : near[j]) {
-      if ((roots[size_t(i)] - roots[j]).norm() > extents[size_t(i)] + extents[j]) continue;
-      if (meets(origin, direction, size_t(i), 0.0)) {
-#pragma omp critical(plume_layer_covers)
-        covers[size_t(i)].push_back(int32_t(j));
+#pragma omp parallel
+  {
+    std::vector<double> nearest(n, 2.0);  // per feather met from j's vertices: the nearest one's from_root
+    std::vector<int32_t> met;             // those feathers
+    std::vector<std::pair<double, int64_t>> by_distance;  // j's vertices outside its root disc, from_root
+    std::vector<size_t> covering(n, SIZE_MAX);  // per feather: the last j whose root it was found to cover
+#pragma omp for schedule(dynamic, 16)
+    for (int64_t fj = 0; fj < int64_t(n); ++fj) {
+      const size_t j = size_t(fj);
+      const Vec origin = roots[j], direction = rest.root_frames[j].normal().cast<double>();
+      tree.for_each_met(origin, direction, [&](size_t i, size_t g) {
+        if (i == j || covering[i] == j || (roots[i] - roots[j]).norm() > extents[i] + extents[j]) return;
+        if (meets(origin, direction, i, g, 0.0)) {
+          covering[i] = j;
+          root_covered_by[j].push_back(int32_t(i));
+        }
+      });
+      std::sort(root_covered_by[j].begin(), root_covered_by[j].end());
+      if (!rest_skin) continue;
+      const int64_t v0 = ranges.first_vertex[j], v1 = ranges.first_vertex[j + 1];
+      if (v0 == v1 || ranges.first_triangle[j] == ranges.first_triangle[j + 1]) continue;
+      const Vec base =
+          rest.vanes.positions[size_t(rest.vanes.triangles[size_t(ranges.first_triangle[j])][0])].cast<double>();
+      double from_base = 0.0;
+      for (int64_t x = v0; x < v1; ++x)
+        from_base = std::max(from_base, (rest.vanes.positions[size_t(x)].cast<double>() - base).norm());
+      const double thickness = 1e-4 * extents[j];
+      // Nearest the root first: a feather met from a vertex is not asked again from a farther one.
+      by_distance.clear();
+      for (int64_t x = v0; x < v1; ++x) {
+        const Vec p = rest.vanes.positions[size_t(x)].cast<double>();
+        if ((p - base).norm() <= kCheckerRootDisc * from_base) continue;
+        by_distance.emplace_back((p - roots[j]).norm() / std::max(extents[j], 1e-300), x);
+      }
+      std::sort(by_distance.begin(), by_distance.end());
+      met.clear();
+      for (const auto &[from_root, x] : by_distance) {
+        const Vec p = rest.vanes.positions[size_t(x)].cast<double>();
+        const Vec out =
+            surface_normal(rest_skin->mesh(), rest_skin->closest(rest.vanes.positions[size_t(x)])).cast<double>();
+        tree.for_each_met(p, out, [&](size_t i, size_t g) {
+          if (i == j || !(from_root < nearest[i])) return;
+          if ((roots[i] - roots[j]).norm() > 2.0 * extents[i] + 2.0 * extents[j]) return;
+          if (!meets(p, out, i, g, thickness)) return;
+          if (nearest[i] == 2.0) met.push_back(int32_t(i));
+          nearest[i] = from_root;
+        });
+      }
+      std::sort(met.begin(), met.end());
+      for (const int32_t i : met) {
+        if (nearest[size_t(i)] <= 1.0) over[j].emplace_back(i, nearest[size_t(i)]);
+        nearest[size_t(i)] = 2.0;
       }
     }
-    if (!rest_skin || near[j].empty()) continue;
-    const int64_t v0 = ranges.first_vertex[j], v1 = ranges.first_vertex[j + 1];
-    if (v0 == v1 || ranges.first_triangle[j] == ranges.first_triangle[j + 1]) continue;
-    const Vec base = rest.vanes.positions[size_t(rest.vanes.triangles[size_t(ranges.first_triangle[j])][0])].cast<double>();
-    double from_base = 0.0;
-    for (int64_t x = v0; x < v1; ++x)
-      from_base = std::max(from_base, (rest.vanes.positions[size_t(x)].cast<double>() - base).norm());
-    const double thickness = 1e-4 * extents[j];
-    std::vector<double> nearest(near[j].size(), 2.0);
-    for (int64_t x = v0; x < v1; ++x) {
-      const Vec p = rest.vanes.positions[size_t(x)].cast<double>();
-      if ((p - base).norm() <= kCheckerRootDisc * from_base) continue;
-      const double from_root = (p - roots[j]).norm() / std::max(extents[j], 1e-300);
-      const Vec out = surface_normal(rest_skin->mesh(), rest_skin->closest(rest.vanes.positions[size_t(x)])).cast<double>();
-      for (size_t c = 0; c < near[j].size(); ++c)
-        if (from_root < nearest[c] && meets(p, out, size_t(near[j][c]), thickness)) nearest[c] = from_root;
-    }
-    for (size_t c = 0; c < near[j].size(); ++c)
-      if (nearest[c] <= 1.0) over[j].emplace_back(near[j][c], nearest[c]);
   }
+  std::vector<std::vector<int32_t>> covers(n);  // per feather, the roots its vanes cover (ascending)
+  for (size_t j = 0; j < n; ++j)
+    for (const int32_t i : root_covered_by[j]) covers[size_t(i)].push_back(int32_t(j));
   // Where a feather lies over another's vertices and not under it anywhere (nor over its root the
   // other way), it lies above it. Pairs seen both ways (interleaved, or crossing): the one met
   // nearer its root lies below (a turn about its root cannot take that part out).
-  for (std::vector<int32_t> &list : covers) std::sort(list.begin(), list.end());
   std::vector<std::vector<int32_t>> lies_over(n);  // beyond the roots' coverings
   for (size_t j = 0; j < n; ++j)
     for (const auto &[i, nearer] : over[j]) {
@@ -963,28 +1095,39 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       size_t aside_witness = SIZE_MAX;
       std::vector<Triangle> aside_triangles(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> aside_boxes(mine.triangles.size());
+      std::vector<Eigen::AlignedBox3d> aside_group_boxes(mine.group_boxes.size());
+      // Per vertex, where the skin was last asked for it by a move and its signed distance there.
+      std::vector<std::pair<Vec, double>> aside_known;
       auto clear_moved = [&](const Eigen::Matrix3d &move) {
         const auto moved_point = [&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); };
         Eigen::AlignedBox3d all;
+        for (Eigen::AlignedBox3d &box : aside_group_boxes) box.setEmpty();
         for (size_t t = 0; t < mine.triangles.size(); ++t) {
           aside_boxes[t].setEmpty();
           for (size_t v = 0; v < 3; ++v) {
             aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
             aside_boxes[t].extend(aside_triangles[t][v]);
           }
+          aside_group_boxes[t / kGroup].extend(aside_boxes[t]);
           all.extend(aside_boxes[t]);
         }
+        // Pairs of groups first (a triangle's box lies in its group's, so a pair of triangles whose
+        // groups' boxes are apart is apart too).
         const auto vanes_meet = [&](size_t l) {
           const FeatherVanes &f = *lower[l];
           if (apart(all, f.box)) return false;
-          for (size_t t = 0; t < aside_triangles.size(); ++t) {
-            if (apart(aside_boxes[t], f.box)) continue;
+          for (size_t m = 0; m < aside_group_boxes.size(); ++m) {
+            if (apart(aside_group_boxes[m], f.box)) continue;
+            const size_t mine_end = std::min(aside_triangles.size(), m * kGroup + kGroup);
             for (size_t g = 0; g < f.group_boxes.size(); ++g) {
-              if (apart(aside_boxes[t], f.group_boxes[g])) continue;
+              if (apart(aside_group_boxes[m], f.group_boxes[g])) continue;
               const size_t group_end = std::min(f.triangles.size(), g * kGroup + kGroup);
-              for (size_t u = g * kGroup; u < group_end; ++u)
-                if (!apart(aside_boxes[t], f.boxes[u]) && too_close(aside_triangles[t], f.triangles[u], gap2))
-                  return true;
+              for (size_t t = m * kGroup; t < mine_end; ++t) {
+                if (apart(aside_boxes[t], f.group_boxes[g])) continue;
+                for (size_t u = g * kGroup; u < group_end; ++u)
+                  if (!apart(aside_boxes[t], f.boxes[u]) && too_close(aside_triangles[t], f.triangles[u], gap2))
+                    return true;
+              }
             }
           }
           return false;
@@ -996,12 +1139,22 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             return false;
           }
         aside_vertices.resize(size_t(v1 - v0));
+        if (closed_skin && aside_known.empty()) aside_known.assign(size_t(v1 - v0), {Vec::Zero(), -1.0});
         for (int64_t x = v0; x < v1; ++x) {
           const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
-          aside_vertices[size_t(x - v0)] = moved_point(p);
-          if (skin && (p - mine.root).norm() > double(options.root_disc) * mine.extent &&
-              skin_distance(aside_vertices[size_t(x - v0)], mine_skin[size_t(x - v0)]) < 0.0)
+          const Vec &q = aside_vertices[size_t(x - v0)] = moved_point(p);
+          if (!skin || (p - mine.root).norm() <= double(options.root_disc) * mine.extent) continue;
+          // On a closed skin, a vertex that has not moved as far as it was from the skin the last
+          // time it was asked here is still out (as below_skin's bound).
+          if (closed_skin) {
+            auto &[last, distance] = aside_known[size_t(x - v0)];
+            if (distance > (q - last).norm() + skin_slack) continue;
+            last = q;
+            distance = skin_distance(q, mine_skin[size_t(x - v0)]);
+            if (distance < 0.0) return false;
+          } else if (skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0) {
             return false;
+          }
         }
         for (const int64_t x : outward)
           if (under_lower_at(aside_vertices[size_t(x - v0)], x, all_lower.data(), all_lower.data() + all_lower.size(),

@@ -5,9 +5,14 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "check/vanes.h"
 #include "feathers/coat.h"
@@ -201,4 +206,132 @@ TEST_CASE("the layering pass keeps vanes apart in the groom's own order, reverse
       check::check_vanes(frame.vanes.positions, frame.vanes.triangles, frame.vanes.triangle_feathers);
   CHECK(report.feather_pairs == 0);
   CHECK(frame.layering.lifted > 0);
+}
+
+namespace {
+
+/// Moller and Trumbore in double, as the order computes it: how far along the unit `direction` from
+/// `origin` the ray crosses triangle (a, b, c), or -1.
+double ray_crossing(const Eigen::Vector3d &origin, const Eigen::Vector3d &direction, const Eigen::Vector3d &a,
+                    const Eigen::Vector3d &b, const Eigen::Vector3d &c) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a, h = direction.cross(e2);
+  const double det = e1.dot(h);
+  if (!(std::abs(det) > 1e-300)) return -1.0;
+  const Eigen::Vector3d s = origin - a;
+  const double u = s.dot(h) / det;
+  if (u < 0.0 || u > 1.0) return -1.0;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = direction.dot(q) / det;
+  if (v < 0.0 || u + v > 1.0) return -1.0;
+  return e2.dot(q) / det;
+}
+
+/// The order layer_order_from_coverage documents (no keys), by brute force: every ray against every
+/// triangle of every feather whose sphere it may reach, no boxes, no tree.
+LayerOrder brute_force_order(const CoatFrame &rest, const FeatherRanges &ranges, const MeshQuery &skin) {
+  using Vec = Eigen::Vector3d;
+  const size_t n = ranges.size();
+  const auto position = [&](int64_t x) { return Vec(rest.vanes.positions[size_t(x)].cast<double>()); };
+  std::vector<Vec> roots(n);
+  std::vector<double> extents(n, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    roots[i] = rest.root_frames[i].origin.cast<double>();
+    if (ranges.first_triangle[i] == ranges.first_triangle[i + 1]) continue;
+    for (int64_t x = ranges.first_vertex[i]; x < ranges.first_vertex[i + 1]; ++x)
+      extents[i] = std::max(extents[i], (position(x) - roots[i]).norm());
+  }
+  // Whether the ray meets feather i's vanes farther than `from` and within i's extent.
+  const auto meets = [&](const Vec &origin, const Vec &direction, size_t i, double from) {
+    for (int64_t t = ranges.first_triangle[i]; t < ranges.first_triangle[i + 1]; ++t) {
+      const auto &tri = rest.vanes.triangles[size_t(t)];
+      const double along = ray_crossing(origin, direction, position(tri[0]), position(tri[1]), position(tri[2]));
+      if (along > from && along <= extents[i]) return true;
+    }
+    return false;
+  };
+  std::vector<std::vector<int32_t>> covers(n);
+  std::vector<std::vector<std::pair<int32_t, double>>> over(n);
+  for (size_t j = 0; j < n; ++j) {
+    for (size_t i = 0; i < n; ++i)
+      if (i != j && (roots[i] - roots[j]).norm() <= extents[i] + extents[j] &&
+          meets(roots[j], rest.root_frames[j].normal().cast<double>(), i, 0.0))
+        covers[i].push_back(int32_t(j));
+    const int64_t v0 = ranges.first_vertex[j], v1 = ranges.first_vertex[j + 1];
+    if (v0 == v1 || ranges.first_triangle[j] == ranges.first_triangle[j + 1]) continue;
+    const Vec base = position(rest.vanes.triangles[size_t(ranges.first_triangle[j])][0]);
+    double from_base = 0.0;
+    for (int64_t x = v0; x < v1; ++x) from_base = std::max(from_base, (position(x) - base).norm());
+    std::vector<double> nearest(n, 2.0);
+    for (int64_t x = v0; x < v1; ++x) {
+      const Vec p = position(x);
+      if ((p - base).norm() <= 0.05 * from_base) continue;  // the checker's root disc
+      const double from_root = (p - roots[j]).norm() / std::max(extents[j], 1e-300);
+      const Vec out = surface_normal(skin.mesh(), skin.closest(rest.vanes.positions[size_t(x)])).cast<double>();
+      for (size_t i = 0; i < n; ++i)
+        if (i != j && (roots[i] - roots[j]).norm() <= 2.0 * extents[i] + 2.0 * extents[j] && from_root < nearest[i] &&
+            meets(p, out, i, 1e-4 * extents[j]))
+          nearest[i] = from_root;
+    }
+    for (size_t i = 0; i < n; ++i)
+      if (nearest[i] <= 1.0) over[j].emplace_back(int32_t(i), nearest[i]);
+  }
+  const auto nearer_from = [&](size_t j, int32_t i) {
+    for (const auto &[k, nearer] : over[j])
+      if (k == i) return nearer;
+    return 2.0;
+  };
+  const auto has = [](const std::vector<int32_t> &list, int32_t k) {
+    return std::find(list.begin(), list.end(), k) != list.end();
+  };
+  std::vector<std::vector<int32_t>> lies_over(n);
+  for (size_t j = 0; j < n; ++j)
+    for (const auto &[i, nearer] : over[j]) {
+      if (has(covers[j], i) || has(covers[size_t(i)], int32_t(j))) continue;
+      const double against = nearer_from(size_t(i), int32_t(j));
+      if (nearer < against || (nearer == against && i > int32_t(j))) lies_over[size_t(i)].push_back(int32_t(j));
+    }
+  // Kahn's order: the next feather covers the fewest remaining roots, then lies above the fewest
+  // remaining feathers, then has the smallest index.
+  LayerOrder order;
+  order.rank.assign(n, -1);
+  std::vector<bool> placed(n, false);
+  for (size_t step = 0; step < n; ++step) {
+    std::tuple<int32_t, int32_t, int32_t> best{INT32_MAX, INT32_MAX, INT32_MAX};
+    for (size_t i = 0; i < n; ++i) {
+      if (placed[i]) continue;
+      int32_t roots_left = 0, left = 0;
+      for (const int32_t k : covers[i]) roots_left += placed[size_t(k)] ? 0 : 1;
+      for (const int32_t k : lies_over[i]) left += placed[size_t(k)] ? 0 : 1;
+      best = std::min(best, {roots_left, roots_left + left, int32_t(i)});
+    }
+    const int32_t i = std::get<2>(best);
+    for (const int32_t k : covers[size_t(i)])
+      if (!placed[size_t(k)]) order.broken.emplace_back(i, k);
+    for (const int32_t k : lies_over[size_t(i)])
+      if (!placed[size_t(k)]) order.loose.emplace_back(i, k);
+    placed[size_t(i)] = true;
+    order.rank[size_t(i)] = int32_t(order.bottom_up.size());
+    order.bottom_up.push_back(i);
+  }
+  std::sort(order.loose.begin(), order.loose.end());
+  return order;
+}
+
+}  // namespace
+
+TEST_CASE("the order at rest is the one every ray against every triangle gives", "[feathers]") {
+  const Bird bird;
+  FeatherDesc desc = bird.groom.feathers;
+  desc.layers = false;
+  desc.follicles.groups = {"back"};
+  const Coat coat(bird.rest, bird.stems, desc, scatter_follicles(bird.rest, desc.follicles, {}, 70));
+  const MeshQuery query(bird.rest);
+  CoatFrame rest;
+  coat.grow(bird.rest, query, bird.stems.strands, rest);
+  const LayerOrder order = layer_order_from_coverage(rest, coat.ranges(), {}, &query);
+  const LayerOrder reference = brute_force_order(rest, coat.ranges(), query);
+  REQUIRE(order.bottom_up.size() == coat.size());
+  CHECK(order.bottom_up == reference.bottom_up);
+  CHECK(order.broken == reference.broken);
+  CHECK(order.loose == reference.loose);
 }

@@ -62,7 +62,6 @@ class Separator {
                                                         std::vector<uint8_t> &r_near) {
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
     r_near.resize(candidates.size(), 0);
-    const size_t per_strand = size_t(n_ - 1);
     if (moved.empty()) {
       // Every candidate, and each strand's candidates listed for the sweeps that follow.
 #pragma omp parallel for schedule(static, 1024)
@@ -71,13 +70,13 @@ class Separator {
         r_near[size_t(c)] = near(u, v, distance, cos_angle);
       }
       listed_first_.assign(strand_count_ + 1, 0);
-      for (const auto &[u, v] : candidates) ++listed_first_[u / per_strand + 1], ++listed_first_[v / per_strand + 1];
+      for (const auto &[u, v] : candidates) ++listed_first_[strand_of(u) + 1], ++listed_first_[strand_of(v) + 1];
       for (size_t c = 0; c < strand_count_; ++c) listed_first_[c + 1] += listed_first_[c];
       listed_.resize(listed_first_.back());
       std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
       for (size_t c = 0; c < candidates.size(); ++c) {
-        listed_[next[candidates[c].first / per_strand]++] = uint32_t(c);
-        listed_[next[candidates[c].second / per_strand]++] = uint32_t(c);
+        listed_[next[strand_of(candidates[c].first)]++] = uint32_t(c);
+        listed_[next[strand_of(candidates[c].second)]++] = uint32_t(c);
       }
     } else {
       // The candidates of the strands that moved, each once, in order.
@@ -106,21 +105,32 @@ class Separator {
     moved_.assign(strand_count_, 0);
     return moved;
   }
-  /// The largest distance a point moved since the last search over all segments (mark_searched).
-  float drift() const {
-    float largest = 0.0f;
-    for (size_t k = 0; k < searched_.size(); ++k) largest = std::max(largest, (positions_[k] - searched_[k]).squaredNorm());
-    return std::sqrt(largest);
+  /// The largest distance from its place at the last search over all segments (mark_searched) at
+  /// which a point was put since: at least the largest distance of a point from it now.
+  float drift() const { return std::sqrt(drift_squared_); }
+  void mark_searched() {
+    searched_.assign(positions_.begin(), positions_.end());
+    drift_squared_ = 0.0f;
   }
-  void mark_searched() { searched_.assign(positions_.begin(), positions_.end()); }
+  /// How many of `pairs` are nearer than `distance` at an angle above the pass's.
+  int64_t count_near(const std::vector<std::pair<uint32_t, uint32_t>> &pairs, float distance) const {
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+    int64_t count = 0;
+    for (const auto &[u, v] : pairs) count += near(u, v, distance, cos_angle);
+    return count;
+  }
   /// One flag per strand, set when a point of it is not where growth put it.
   std::vector<uint8_t> ever_moved() const {
     std::vector<uint8_t> flags(strand_count_, 0);
     for (size_t k = 0; k < original_.size(); ++k)
-      if (positions_[k] != original_[k]) flags[k / size_t(n_)] = 1;
+      if (positions_[k] != original_[k]) flags[strand_of_point(k)] = 1;
     return flags;
   }
-  size_t strand_of(uint32_t segment) const { return segment / size_t(n_ - 1); }
+  /// The strand of segment u (indices strand * (n - 1) + j) and u's index j along it.
+  size_t strand_of(size_t u) const { return u / size_t(n_ - 1); }
+  int index_in_strand(size_t u) const { return int(u % size_t(n_ - 1)); }
+  /// The strand of point k (indices strand * n + j).
+  size_t strand_of_point(size_t k) const { return k / size_t(n_); }
 
   /// Segment pairs (indices strand * (n - 1) + j, first < second) of different strands nearer than
   /// `distance` (at an angle above the pass's unless `any_angle`), sorted; with `active` (one flag per
@@ -152,7 +162,7 @@ class Separator {
     }
     // The cells list every segment (of an active strand, with `active`), in index order; each
     // segment looks up the cells its own box meets.
-    auto listed = [&](size_t u) { return !active || (*active)[u / size_t(n_ - 1)] != 0; };
+    auto listed = [&](size_t u) { return !active || (*active)[strand_of(u)] != 0; };
     std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
     for (size_t u = 0; u < segments; ++u) {
       if (!listed(u)) continue;
@@ -169,7 +179,7 @@ class Separator {
 #pragma omp for schedule(dynamic, 256)
       for (int64_t su = 0; su < int64_t(segments); ++su) {
         const size_t u = size_t(su);
-        const size_t strand = u / size_t(n_ - 1);
+        const size_t strand = strand_of(u);
         const bool u_listed = listed(u);
         const Eigen::Array3i lo = cell_lo[u], hi = cell_hi[u];
         const Eigen::Array3f ulo = box_lo[u] - distance, uhi = box_hi[u] + distance;
@@ -179,7 +189,7 @@ class Separator {
               const auto found = cells.find(key(x, y, z));
               if (found == cells.end()) continue;
               for (const uint32_t v : found->second) {
-                const size_t other = v / size_t(n_ - 1);
+                const size_t other = strand_of(v);
                 // Each pair once: from its first segment when both are listed.
                 if (other == strand || (u_listed && v <= u)) continue;
                 // The segments' own boxes, grown by the distance, must meet (a cheap test first).
@@ -207,8 +217,8 @@ class Separator {
     closest_segment_parameters(a0, a1, b0, b1, s, t);
     const Vec pa = a0 + s * (a1 - a0), pb = b0 + t * (b1 - b0);
     if ((pa - pb).norm() >= double(detect)) return true;
-    const size_t sa = u / size_t(n_ - 1), sb = v / size_t(n_ - 1);
-    const int ia = int(u % size_t(n_ - 1)), ib = int(v % size_t(n_ - 1));
+    const size_t sa = strand_of(u), sb = strand_of(v);
+    const int ia = index_in_strand(u), ib = index_in_strand(v);
     // The exact side: from b's curve to a's, at their closest points within a segment of the meeting.
     Vec e = exact_side(sa, (double(ia) + s) / double(n_ - 1), sb, (double(ib) + t) / double(n_ - 1));
     if (e.squaredNorm() == 0.0) {
@@ -324,8 +334,7 @@ class Separator {
   Eigen::Vector3f point(size_t strand, int j) const { return positions_[strand * size_t(n_) + size_t(j)]; }
   /// End `which` (0, 1) of segment u.
   Eigen::Vector3f end(size_t u, int which) const {
-    const size_t strand = u / size_t(n_ - 1);
-    return point(strand, int(u % size_t(n_ - 1)) + which);
+    return point(strand_of(u), index_in_strand(u) + which);
   }
 
   bool near(size_t u, size_t v, float distance, float cos_angle) const {
@@ -402,12 +411,14 @@ class Separator {
   /// as asked, less when the skin took a part, 0 when refused.
   double try_move(size_t k, const Eigen::Vector3f &delta, SeparationStats &stats) {
     const Eigen::Vector3f to = positions_[k] + delta;
-    const float largest = largest_move_[k / size_t(n_)];
+    const size_t strand = strand_of_point(k);
+    const float largest = largest_move_[strand];
     if (!to.allFinite() || !(delta.squaredNorm() > 0.0f) || (to - original_[k]).norm() > largest) return 0.0;
     float bound = lower_[k] - delta.norm();
     if (bound >= floor_[k]) {
-      moved_[k / size_t(n_)] = 1;
+      moved_[strand] = 1;
       positions_[k] = to;
+      drift_squared_ = std::max(drift_squared_, (to - searched_[k]).squaredNorm());
       lower_[k] = bound;
       return 1.0;
     }
@@ -429,8 +440,9 @@ class Separator {
     bound = grid_.signed_distance(target, closest.triangle, closest);
     if (!(bound >= floor_[k])) return 0.0;
     ++stats.slid;
-    moved_[k / size_t(n_)] = 1;
+    moved_[strand] = 1;
     positions_[k] = target;
+    drift_squared_ = std::max(drift_squared_, (target - searched_[k]).squaredNorm());
     lower_[k] = bound;
     return std::clamp(double(moved.dot(delta)) / double(delta.squaredNorm()), 0.0, 1.0);
   }
@@ -450,6 +462,7 @@ class Separator {
   std::span<float> lower_;
   std::vector<Eigen::Vector3f> original_;
   std::vector<Eigen::Vector3f> searched_;  // the points at the last search over all segments
+  float drift_squared_ = 0.0f;             // drift(), squared
   std::vector<float> largest_move_;        // per strand
   // The candidates of each strand (indices into the candidate pairs), from near_among's full pass:
   // listed_[listed_first_[s] .. listed_first_[s + 1]).
@@ -507,7 +520,8 @@ SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, co
     }
     if (!moved) break;
   }
-  stats.pairs_left = int64_t(separator.near_among(candidates, tolerance, {}, is_near).size());
+  // `pairs` are those nearer than `detect` now, and any pair nearer than the tolerance is one of them.
+  stats.pairs_left = separator.count_near(pairs, tolerance);
   stats.points_moved = separator.points_moved();
   stats.largest_move = separator.largest_move();
   return stats;

@@ -54,70 +54,173 @@ class Separator {
     for (size_t k = 0; k < lower.size(); ++k) floor_[k] = lower[k] >= margin ? margin : 0.5f * lower[k];
   }
 
-  /// Of `candidates`, the pairs nearer than `distance` at an angle above the pass's; `r_near` holds
-  /// one flag per candidate, measured again only where a strand of the pair moved since it was
-  /// (`moved`, one flag per strand; all when empty).
-  std::vector<std::pair<uint32_t, uint32_t>> near_among(const std::vector<std::pair<uint32_t, uint32_t>> &candidates,
-                                                        float distance, const std::vector<uint8_t> &moved,
-                                                        std::vector<uint8_t> &r_near) {
-    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
-    r_near.resize(candidates.size(), 0);
-    if (moved.empty()) {
-      // Every candidate, and each strand's candidates listed for the sweeps that follow.
-#pragma omp parallel for schedule(static, 1024)
-      for (int64_t c = 0; c < int64_t(candidates.size()); ++c) {
-        const auto &[u, v] = candidates[size_t(c)];
-        r_near[size_t(c)] = near(u, v, distance, cos_angle);
+  using Pair = std::pair<uint32_t, uint32_t>;
+
+  /// The first search: the candidates are every pair of segments of different strands nearer than
+  /// `reach` at any angle (indices strand * (n - 1) + j, first < second, sorted), found over all
+  /// segments; then measured: which are nearer than `detect` at an angle above the pass's.
+  void search_all(float reach, float detect) {
+    const size_t segments = strand_count_ * size_t(n_ - 1);
+    reach_ = reach;
+    // A uniform grid of cells about a median segment wide, kept for the searches that follow.
+    std::vector<float> lengths;
+    lengths.reserve(segments);
+    for (size_t u = 0; u < segments; ++u) lengths.push_back((end(u, 1) - end(u, 0)).norm());
+    std::nth_element(lengths.begin(), lengths.begin() + segments / 2, lengths.end());
+    cell_ = std::max(lengths[segments / 2], 1e-20f) + 2.0f * reach;
+    box_lo_.resize(segments), box_hi_.resize(segments), cell_lo_.resize(segments), cell_hi_.resize(segments);
+#pragma omp parallel for schedule(static, 4096)
+    for (int64_t u = 0; u < int64_t(segments); ++u) box(size_t(u));
+    everything_ = grid_of(nullptr);
+    std::vector<Pair> found;
+#pragma omp parallel
+    {
+      std::vector<Pair> mine;
+#pragma omp for schedule(dynamic, 256)
+      for (int64_t su = 0; su < int64_t(segments); ++su) {
+        const uint32_t u = uint32_t(su);
+        // Each pair from its first segment; the segments after u's own strand's are of other strands.
+        const uint32_t strand_end = uint32_t((strand_of(u) + 1) * size_t(n_ - 1));
+        const Eigen::Array3f lo = box_lo_[u] - reach, hi = box_hi_[u] + reach;
+        for_cells(u, [&](int x, int y, int z) {
+          const std::span<const Listed> listed = everything_.at(x, y, z);
+          for (auto it = after(listed, u); it != listed.end(); ++it)
+            if (it->segment >= strand_end && meets(lo, hi, it->lo, it->hi) && first_cell(u, it->segment, x, y, z) &&
+                near(u, it->segment, reach, 2.0f))
+              mine.emplace_back(u, it->segment);
+        });
       }
-      listed_first_.assign(strand_count_ + 1, 0);
-      for (const auto &[u, v] : candidates) ++listed_first_[strand_of(u) + 1], ++listed_first_[strand_of(v) + 1];
-      for (size_t c = 0; c < strand_count_; ++c) listed_first_[c + 1] += listed_first_[c];
-      listed_.resize(listed_first_.back());
-      std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
-      for (size_t c = 0; c < candidates.size(); ++c) {
-        listed_[next[strand_of(candidates[c].first)]++] = uint32_t(c);
-        listed_[next[strand_of(candidates[c].second)]++] = uint32_t(c);
-      }
-    } else {
-      // The candidates of the strands that moved, each once, in order.
-      std::vector<uint32_t> again;
-      for (size_t strand = 0; strand < strand_count_; ++strand)
-        if (moved[strand])
-          again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[strand]),
-                       listed_.begin() + std::ptrdiff_t(listed_first_[strand + 1]));
-      std::sort(again.begin(), again.end());
-      again.erase(std::unique(again.begin(), again.end()), again.end());
-#pragma omp parallel for schedule(static, 256) if (again.size() > 4096)
-      for (int64_t i = 0; i < int64_t(again.size()); ++i) {
-        const auto &[u, v] = candidates[again[size_t(i)]];
-        r_near[again[size_t(i)]] = near(u, v, distance, cos_angle);
-      }
+#pragma omp critical(plume_separate_pairs)
+      found.insert(found.end(), mine.begin(), mine.end());
     }
-    std::vector<std::pair<uint32_t, uint32_t>> pairs;
-    for (size_t c = 0; c < candidates.size(); ++c)
-      if (r_near[c]) pairs.push_back(candidates[c]);
-    return pairs;
-  }
-  /// One flag per strand, set when a point of it has moved since the last call.
-  std::vector<uint8_t> take_moved() {
-    std::vector<uint8_t> moved(strand_count_, 0);
-    std::swap(moved, moved_);
-    moved_.assign(strand_count_, 0);
-    return moved;
-  }
-  /// The largest distance from its place at the last search over all segments (mark_searched) at
-  /// which a point was put since: at least the largest distance of a point from it now.
-  float drift() const { return std::sqrt(drift_squared_); }
-  void mark_searched() {
-    searched_.assign(positions_.begin(), positions_.end());
-    drift_squared_ = 0.0f;
-  }
-  /// How many of `pairs` are nearer than `distance` at an angle above the pass's.
-  int64_t count_near(const std::vector<std::pair<uint32_t, uint32_t>> &pairs, float distance) const {
+    std::sort(found.begin(), found.end());
+    candidates_ = std::move(found);
+    near_flags_.assign(candidates_.size(), 0);
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
-    int64_t count = 0;
-    for (const auto &[u, v] : pairs) count += near(u, v, distance, cos_angle);
-    return count;
+#pragma omp parallel for schedule(static, 1024)
+    for (int64_t c = 0; c < int64_t(candidates_.size()); ++c) {
+      const auto &[u, v] = candidates_[size_t(c)];
+      near_flags_[size_t(c)] = near(u, v, detect, cos_angle);
+    }
+    initial_ = candidates_;
+    initial_near_ = near_flags_;
+    candidates_changed();
+    mark_searched();
+  }
+
+  /// A search again, at the points' places now: the candidates with a segment of a strand that moved
+  /// since growth are searched anew (from those segments alone, against the first search's grid for
+  /// the strands that did not move) and measured; those of two strands that never moved are as the
+  /// first search found and measured them.
+  void search_again(float detect) {
+    const std::vector<uint8_t> active = ever_moved();
+    std::vector<uint32_t> moving;
+    std::vector<uint8_t> segment_moved(box_lo_.size(), 0);
+    for (size_t strand = 0; strand < strand_count_; ++strand)
+      if (active[strand])
+        for (int j = 0; j < n_ - 1; ++j) {
+          moving.push_back(uint32_t(strand * size_t(n_ - 1) + size_t(j)));
+          segment_moved[moving.back()] = 1;
+        }
+#pragma omp parallel for schedule(static, 1024)
+    for (int64_t i = 0; i < int64_t(moving.size()); ++i) box(moving[size_t(i)]);
+    const Grid moved_grid = grid_of(&moving);
+    const float reach = reach_;
+    std::vector<Pair> found;
+#pragma omp parallel
+    {
+      std::vector<Pair> mine;
+#pragma omp for schedule(dynamic, 64)
+      for (int64_t i = 0; i < int64_t(moving.size()); ++i) {
+        const uint32_t u = moving[size_t(i)];
+        const uint32_t strand_end = uint32_t((strand_of(u) + 1) * size_t(n_ - 1));
+        const Eigen::Array3f u_lo = box_lo_[u], u_hi = box_hi_[u];
+        const Eigen::Array3f lo = u_lo - reach, hi = u_hi + reach;
+        for_cells(u, [&](int x, int y, int z) {
+          // With a segment of a strand that never moved: the pair as the search over all segments
+          // would see it from that segment (its box as it was, u's as it is).
+          for (const Listed &v : everything_.at(x, y, z))
+            if (meets(v.lo - reach, v.hi + reach, u_lo, u_hi) && !segment_moved[v.segment] &&
+                first_cell(v.segment, u, x, y, z) && near(v.segment, u, reach, 2.0f))
+              mine.emplace_back(std::min(u, v.segment), std::max(u, v.segment));
+          // Of two moved strands: from the first segment.
+          const std::span<const Listed> listed = moved_grid.at(x, y, z);
+          for (auto it = after(listed, u); it != listed.end(); ++it)
+            if (it->segment >= strand_end && meets(lo, hi, it->lo, it->hi) && first_cell(u, it->segment, x, y, z) &&
+                near(u, it->segment, reach, 2.0f))
+              mine.emplace_back(u, it->segment);
+        });
+      }
+#pragma omp critical(plume_separate_pairs)
+      found.insert(found.end(), mine.begin(), mine.end());
+    }
+    std::sort(found.begin(), found.end());
+    // Merged with the first search's pairs of two strands that never moved (disjoint, both sorted).
+    std::vector<Pair> merged;
+    std::vector<uint8_t> flags;
+    std::vector<uint32_t> measure;  // the merged indices of the pairs found now
+    merged.reserve(found.size() + initial_.size());
+    flags.reserve(found.size() + initial_.size());
+    size_t f = 0;
+    for (size_t c = 0; c <= initial_.size(); ++c) {
+      const bool last = c == initial_.size();
+      if (!last && (active[strand_of(initial_[c].first)] || active[strand_of(initial_[c].second)])) continue;
+      for (; f < found.size() && (last || found[f] < initial_[c]); ++f) {
+        measure.push_back(uint32_t(merged.size()));
+        merged.push_back(found[f]);
+        flags.push_back(0);
+      }
+      if (last) break;
+      merged.push_back(initial_[c]);
+      flags.push_back(initial_near_[c]);
+    }
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+#pragma omp parallel for schedule(static, 1024)
+    for (int64_t i = 0; i < int64_t(measure.size()); ++i) {
+      const auto &[u, v] = merged[measure[size_t(i)]];
+      flags[measure[size_t(i)]] = near(u, v, detect, cos_angle);
+    }
+    candidates_ = std::move(merged);
+    near_flags_ = std::move(flags);
+    candidates_changed();
+    mark_searched();
+  }
+
+  /// Measures again the candidates of the strands that moved since they were measured, each once.
+  void measure_moved(float detect) {
+    std::vector<uint32_t> again;
+    for (size_t strand = 0; strand < strand_count_; ++strand)
+      if (moved_[strand])
+        again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[strand]),
+                     listed_.begin() + std::ptrdiff_t(listed_first_[strand + 1]));
+    std::fill(moved_.begin(), moved_.end(), 0);
+    std::sort(again.begin(), again.end());
+    again.erase(std::unique(again.begin(), again.end()), again.end());
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+#pragma omp parallel for schedule(static, 256) if (again.size() > 4096)
+    for (int64_t i = 0; i < int64_t(again.size()); ++i) {
+      const auto &[u, v] = candidates_[again[size_t(i)]];
+      near_flags_[again[size_t(i)]] = near(u, v, detect, cos_angle);
+    }
+    // The near candidates: those not measured again as they were, and those measured again now near.
+    std::vector<uint32_t> near_now;
+    near_now.reserve(near_.size() + again.size());
+    size_t a = 0;
+    for (size_t i = 0; i <= near_.size(); ++i) {
+      const uint32_t c = i < near_.size() ? near_[i] : UINT32_MAX;
+      for (; a < again.size() && again[a] <= c; ++a)
+        if (near_flags_[again[a]]) near_now.push_back(again[a]);
+      if (i < near_.size() && (a == 0 || again[a - 1] != c)) near_now.push_back(c);
+    }
+    near_ = std::move(near_now);
+  }
+
+  /// The candidates nearer than `detect` at their last measure, sorted.
+  std::vector<Pair> near_pairs() const {
+    std::vector<Pair> pairs;
+    pairs.reserve(near_.size());
+    for (const uint32_t c : near_) pairs.push_back(candidates_[c]);
+    return pairs;
   }
   /// One flag per strand, set when a point of it is not where growth put it.
   std::vector<uint8_t> ever_moved() const {
@@ -126,89 +229,21 @@ class Separator {
       if (positions_[k] != original_[k]) flags[strand_of_point(k)] = 1;
     return flags;
   }
+  /// The largest distance from its place at the last search at which a point was put since: at
+  /// least the largest distance of a point from it now.
+  float drift() const { return std::sqrt(drift_squared_); }
+  /// How many of `pairs` are nearer than `distance` at an angle above the pass's.
+  int64_t count_near(const std::vector<Pair> &pairs, float distance) const {
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+    int64_t count = 0;
+    for (const auto &[u, v] : pairs) count += near(u, v, distance, cos_angle);
+    return count;
+  }
   /// The strand of segment u (indices strand * (n - 1) + j) and u's index j along it.
   size_t strand_of(size_t u) const { return u / size_t(n_ - 1); }
   int index_in_strand(size_t u) const { return int(u % size_t(n_ - 1)); }
   /// The strand of point k (indices strand * n + j).
   size_t strand_of_point(size_t k) const { return k / size_t(n_); }
-
-  /// Segment pairs (indices strand * (n - 1) + j, first < second) of different strands nearer than
-  /// `distance` (at an angle above the pass's unless `any_angle`), sorted; with `active` (one flag per
-  /// strand), only the pairs with a segment of a flagged strand.
-  std::vector<std::pair<uint32_t, uint32_t>> near_pairs(float distance, bool any_angle = false,
-                                                        const std::vector<uint8_t> *active = nullptr) const {
-    const size_t segments = strand_count_ * size_t(n_ - 1);
-    // A uniform grid of cells about a median segment wide; each segment listed in the cells its box
-    // (grown by `distance`) meets, in index order.
-    std::vector<float> lengths;
-    lengths.reserve(segments);
-    for (size_t u = 0; u < segments; ++u) lengths.push_back((end(u, 1) - end(u, 0)).norm());
-    std::nth_element(lengths.begin(), lengths.begin() + segments / 2, lengths.end());
-    const float cell = std::max(lengths[segments / 2], 1e-20f) + 2.0f * distance;
-    auto key = [](int64_t x, int64_t y, int64_t z) {
-      return uint64_t(x & 0x1fffff) | (uint64_t(y & 0x1fffff) << 21) | (uint64_t(z & 0x1fffff) << 42);
-    };
-    // Each segment's box and the cells its box grown by `distance` meets.
-    std::vector<Eigen::Array3f> box_lo(segments), box_hi(segments);
-    std::vector<Eigen::Array3i> cell_lo(segments), cell_hi(segments);
-#pragma omp parallel for schedule(static, 4096)
-    for (int64_t su = 0; su < int64_t(segments); ++su) {
-      const size_t u = size_t(su);
-      const Eigen::Vector3f a = end(u, 0), b = end(u, 1);
-      box_lo[u] = a.cwiseMin(b).array();
-      box_hi[u] = a.cwiseMax(b).array();
-      cell_lo[u] = ((box_lo[u] - distance) / cell).floor().cast<int>();
-      cell_hi[u] = ((box_hi[u] + distance) / cell).floor().cast<int>();
-    }
-    // The cells list every segment (of an active strand, with `active`), in index order; each
-    // segment looks up the cells its own box meets.
-    auto listed = [&](size_t u) { return !active || (*active)[strand_of(u)] != 0; };
-    std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
-    for (size_t u = 0; u < segments; ++u) {
-      if (!listed(u)) continue;
-      const Eigen::Array3i &lo = cell_lo[u], &hi = cell_hi[u];
-      for (int x = lo.x(); x <= hi.x(); ++x)
-        for (int y = lo.y(); y <= hi.y(); ++y)
-          for (int z = lo.z(); z <= hi.z(); ++z) cells[key(x, y, z)].push_back(uint32_t(u));
-    }
-    const float cos_angle = any_angle ? 2.0f : std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
-    std::vector<std::pair<uint32_t, uint32_t>> pairs;
-#pragma omp parallel
-    {
-      std::vector<std::pair<uint32_t, uint32_t>> mine;
-#pragma omp for schedule(dynamic, 256)
-      for (int64_t su = 0; su < int64_t(segments); ++su) {
-        const size_t u = size_t(su);
-        const size_t strand = strand_of(u);
-        const bool u_listed = listed(u);
-        const Eigen::Array3i lo = cell_lo[u], hi = cell_hi[u];
-        const Eigen::Array3f ulo = box_lo[u] - distance, uhi = box_hi[u] + distance;
-        for (int x = lo.x(); x <= hi.x(); ++x)
-          for (int y = lo.y(); y <= hi.y(); ++y)
-            for (int z = lo.z(); z <= hi.z(); ++z) {
-              const auto found = cells.find(key(x, y, z));
-              if (found == cells.end()) continue;
-              for (const uint32_t v : found->second) {
-                const size_t other = strand_of(v);
-                // Each pair once: from its first segment when both are listed.
-                if (other == strand || (u_listed && v <= u)) continue;
-                // The segments' own boxes, grown by the distance, must meet (a cheap test first).
-                if ((box_lo[v] > uhi).any() || (box_hi[v] < ulo).any()) continue;
-                // Counted in the first cell both boxes share, so each pair once.
-                const Eigen::Array3i first = lo.max(cell_lo[v]);
-                if (first.x() != x || first.y() != y || first.z() != z) continue;
-                if (near(u, v, distance, cos_angle))
-                  mine.emplace_back(uint32_t(std::min<size_t>(u, v)), uint32_t(std::max<size_t>(u, v)));
-              }
-            }
-      }
-#pragma omp critical(plume_separate_pairs)
-      pairs.insert(pairs.end(), mine.begin(), mine.end());
-    }
-    std::sort(pairs.begin(), pairs.end());
-    return pairs;
-  }
-
   /// Pushes the pair's segments apart (one step of a sweep); returns false when nothing could move.
   bool push(uint32_t u, uint32_t v, SeparationStats &stats) {
     const float detect = separation_detect * tolerance_, goal = double(separation_goal) * tolerance_;
@@ -331,6 +366,107 @@ class Separator {
   }
 
  private:
+  /// A segment listed in a cell, with its box (read in the cells' order, not the segments').
+  struct Listed {
+    Eigen::Array3f lo, hi;
+    uint32_t segment;
+  };
+  /// Cells listing segments: slot s of a cell holds listed[first[s] .. first[s + 1]), in index order.
+  struct Grid {
+    std::unordered_map<uint64_t, uint32_t> slots;  // cell key -> slot
+    std::vector<uint32_t> first;                   // #slots + 1
+    std::vector<Listed> listed;
+
+    std::span<const Listed> at(int x, int y, int z) const {
+      const auto found = slots.find(key(x, y, z));
+      if (found == slots.end()) return {};
+      return {listed.data() + first[found->second], listed.data() + first[found->second + 1]};
+    }
+  };
+  static uint64_t key(int64_t x, int64_t y, int64_t z) {
+    return uint64_t(x & 0x1fffff) | (uint64_t(y & 0x1fffff) << 21) | (uint64_t(z & 0x1fffff) << 42);
+  }
+  /// The grid of the segments `listed` (sorted; all when null), each in the cells its box grown by
+  /// the reach meets.
+  Grid grid_of(const std::vector<uint32_t> *listed) const {
+    const size_t count = listed ? listed->size() : box_lo_.size();
+    Grid grid;
+    std::vector<uint32_t> slot_of;  // per listing, in order
+    std::vector<uint32_t> sizes;
+    for (size_t i = 0; i < count; ++i) {
+      const uint32_t u = listed ? (*listed)[i] : uint32_t(i);
+      for_cells(u, [&](int x, int y, int z) {
+        const auto [at, added] = grid.slots.try_emplace(key(x, y, z), uint32_t(sizes.size()));
+        if (added) sizes.push_back(0);
+        ++sizes[at->second];
+        slot_of.push_back(at->second);
+      });
+    }
+    grid.first.assign(sizes.size() + 1, 0);
+    for (size_t s = 0; s < sizes.size(); ++s) grid.first[s + 1] = grid.first[s] + sizes[s];
+    grid.listed.resize(slot_of.size());
+    std::vector<uint32_t> next(grid.first.begin(), grid.first.end() - 1);
+    size_t listing = 0;
+    for (size_t i = 0; i < count; ++i) {
+      const uint32_t u = listed ? (*listed)[i] : uint32_t(i);
+      const size_t cells = size_t((cell_hi_[u] - cell_lo_[u] + 1).prod());
+      for (size_t c = 0; c < cells; ++c) grid.listed[next[slot_of[listing++]]++] = Listed{box_lo_[u], box_hi_[u], u};
+    }
+    return grid;
+  }
+  /// Segment u's box, and the cells that box grown by the reach meets.
+  void box(size_t u) {
+    const Eigen::Vector3f a = end(u, 0), b = end(u, 1);
+    box_lo_[u] = a.cwiseMin(b).array();
+    box_hi_[u] = a.cwiseMax(b).array();
+    cell_lo_[u] = ((box_lo_[u] - reach_) / cell_).floor().cast<int>();
+    cell_hi_[u] = ((box_hi_[u] + reach_) / cell_).floor().cast<int>();
+  }
+  template <class Visit>
+  void for_cells(size_t u, Visit &&visit) const {
+    const Eigen::Array3i &lo = cell_lo_[u], &hi = cell_hi_[u];
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) visit(x, y, z);
+  }
+  /// Whether a box (lo, hi) meets a segment's box grown by the reach (grown_lo, grown_hi): the test
+  /// is from the side of the pair's segment that finds the other, as the pair is measured.
+  static bool meets(const Eigen::Array3f &grown_lo, const Eigen::Array3f &grown_hi, const Eigen::Array3f &lo,
+                    const Eigen::Array3f &hi) {
+    return !((lo > grown_hi).any() || (hi < grown_lo).any());
+  }
+  /// Whether cell (x, y, z) is the first both segments' grown boxes meet (so that each pair is
+  /// counted in one cell).
+  bool first_cell(uint32_t u, uint32_t v, int x, int y, int z) const {
+    const Eigen::Array3i first = cell_lo_[u].max(cell_lo_[v]);
+    return first.x() == x && first.y() == y && first.z() == z;
+  }
+  /// The segments listed after u in a cell.
+  static std::span<const Listed>::iterator after(std::span<const Listed> listed, uint32_t u) {
+    return std::upper_bound(listed.begin(), listed.end(), u,
+                            [](uint32_t segment, const Listed &entry) { return segment < entry.segment; });
+  }
+  /// The candidates changed: each strand's candidates listed again, and the near ones.
+  void candidates_changed() {
+    listed_first_.assign(strand_count_ + 1, 0);
+    for (const auto &[u, v] : candidates_) ++listed_first_[strand_of(u) + 1], ++listed_first_[strand_of(v) + 1];
+    for (size_t c = 0; c < strand_count_; ++c) listed_first_[c + 1] += listed_first_[c];
+    listed_.resize(listed_first_.back());
+    std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
+    for (size_t c = 0; c < candidates_.size(); ++c) {
+      listed_[next[strand_of(candidates_[c].first)]++] = uint32_t(c);
+      listed_[next[strand_of(candidates_[c].second)]++] = uint32_t(c);
+    }
+    near_.clear();
+    for (size_t c = 0; c < candidates_.size(); ++c)
+      if (near_flags_[c]) near_.push_back(uint32_t(c));
+    std::fill(moved_.begin(), moved_.end(), 0);
+  }
+  void mark_searched() {
+    searched_.assign(positions_.begin(), positions_.end());
+    drift_squared_ = 0.0f;
+  }
+
   Eigen::Vector3f point(size_t strand, int j) const { return positions_[strand * size_t(n_) + size_t(j)]; }
   /// End `which` (0, 1) of segment u.
   Eigen::Vector3f end(size_t u, int which) const {
@@ -464,10 +600,23 @@ class Separator {
   std::vector<Eigen::Vector3f> searched_;  // the points at the last search over all segments
   float drift_squared_ = 0.0f;             // drift(), squared
   std::vector<float> largest_move_;        // per strand
-  // The candidates of each strand (indices into the candidate pairs), from near_among's full pass:
-  // listed_[listed_first_[s] .. listed_first_[s + 1]).
+  // The search: the reach, the cell size, each segment's box and the cells it meets grown by the
+  // reach (as at the last search that saw the segment move), and the grid of the first search.
+  float reach_ = 0.0f;
+  float cell_ = 1.0f;
+  std::vector<Eigen::Array3f> box_lo_, box_hi_;
+  std::vector<Eigen::Array3i> cell_lo_, cell_hi_;
+  Grid everything_;
+  // The candidate pairs (sorted), flagged when nearer than the detection distance at their last
+  // measure; the first search's; each strand's candidates (indices into candidates_):
+  // listed_[listed_first_[s] .. listed_first_[s + 1]); and the near ones (indices, sorted).
+  std::vector<Pair> candidates_;
+  std::vector<uint8_t> near_flags_;
+  std::vector<Pair> initial_;
+  std::vector<uint8_t> initial_near_;
   std::vector<size_t> listed_first_;
   std::vector<uint32_t> listed_;
+  std::vector<uint32_t> near_;
   size_t strand_count_ = 0;
   std::vector<float> arcs_;
   std::vector<float> floor_;
@@ -491,33 +640,21 @@ SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, co
   // all segments; each sweep measures these alone, until a point has drifted farther than `slack`
   // since: then they are found again.
   const float slack = 30.0f * tolerance;
-  const std::vector<std::pair<uint32_t, uint32_t>> initial = separator.near_pairs(detect + 2.0f * slack, true);
-  std::vector<std::pair<uint32_t, uint32_t>> candidates = initial;
+  separator.search_all(detect + 2.0f * slack, detect);
   stats.searches = 1;
-  std::vector<uint8_t> is_near;
-  std::vector<std::pair<uint32_t, uint32_t>> pairs = separator.near_among(candidates, detect, {}, is_near);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs = separator.near_pairs();
   stats.pairs_found = int64_t(pairs.size());
   while (!pairs.empty() && stats.sweeps < max_sweeps) {
     ++stats.sweeps;
     bool moved = false;
     for (const auto &[u, v] : pairs) moved = separator.push(u, v, stats) || moved;
     if (separator.drift() > slack) {
-      // Found again: the pairs of two strands that never moved are as they were at the first
-      // search; those with a moved strand are searched at the points' places now.
-      const std::vector<uint8_t> active = separator.ever_moved();
-      candidates = separator.near_pairs(detect + 2.0f * slack, true, &active);
-      for (const auto &pair : initial)
-        if (!active[separator.strand_of(pair.first)] && !active[separator.strand_of(pair.second)])
-          candidates.push_back(pair);
-      std::sort(candidates.begin(), candidates.end());
-      separator.mark_searched();
+      separator.search_again(detect);
       ++stats.searches;
-      is_near.clear();
-      separator.take_moved();
-      pairs = separator.near_among(candidates, detect, {}, is_near);
     } else {
-      pairs = separator.near_among(candidates, detect, separator.take_moved(), is_near);
+      separator.measure_moved(detect);
     }
+    pairs = separator.near_pairs();
     if (!moved) break;
   }
   // `pairs` are those nearer than `detect` now, and any pair nearer than the tolerance is one of them.

@@ -102,29 +102,31 @@ class Separator {
       const auto &[u, v] = candidates_[size_t(c)];
       near_flags_[size_t(c)] = near(u, v, detect, cos_angle);
     }
-    initial_ = candidates_;
-    initial_near_ = near_flags_;
+    stale_.assign(segments, 0);
     candidates_changed();
     mark_searched();
   }
 
-  /// A search again, at the points' places now: the candidates with a segment of a strand that moved
-  /// since growth are searched anew (from those segments alone, against the first search's grid for
-  /// the strands that did not move) and measured; those of two strands that never moved are as the
-  /// first search found and measured them.
+  /// A search again, at the points' places now: the pairs with a segment that moved since the last
+  /// search are searched anew from those segments (against the first search's grid for the segments
+  /// that never moved, and the moved ones' as they are now) and measured; the other candidates stay
+  /// as they were found and measured (a pair nearer than the reach now that has neither was as near
+  /// at the last search).
   void search_again(float detect) {
-    const std::vector<uint8_t> active = ever_moved();
-    std::vector<uint32_t> moving;
-    std::vector<uint8_t> segment_moved(box_lo_.size(), 0);
-    for (size_t strand = 0; strand < strand_count_; ++strand)
-      if (active[strand])
-        for (int j = 0; j < n_ - 1; ++j) {
-          moving.push_back(uint32_t(strand * size_t(n_ - 1) + size_t(j)));
-          segment_moved[moving.back()] = 1;
-        }
+    const size_t segments = box_lo_.size();
+    std::vector<uint32_t> moving, stale;
+    std::vector<uint8_t> is_moving(segments, 0);
+    for (size_t u = 0; u < segments; ++u) {
+      const size_t k = strand_of(u) * size_t(n_) + size_t(index_in_strand(u));
+      if (positions_[k] != searched_[k] || positions_[k + 1] != searched_[k + 1]) {
+        moving.push_back(uint32_t(u));
+        is_moving[u] = stale_[u] = 1;
+      }
+      if (stale_[u]) stale.push_back(uint32_t(u));
+    }
 #pragma omp parallel for schedule(static, 1024)
     for (int64_t i = 0; i < int64_t(moving.size()); ++i) box(moving[size_t(i)]);
-    const Grid moved_grid = grid_of(&moving);
+    const Grid stale_grid = grid_of(&stale);
     const float reach = reach_;
     std::vector<Pair> found;
 #pragma omp parallel
@@ -133,46 +135,44 @@ class Separator {
 #pragma omp for schedule(dynamic, 64)
       for (int64_t i = 0; i < int64_t(moving.size()); ++i) {
         const uint32_t u = moving[size_t(i)];
-        const uint32_t strand_end = uint32_t((strand_of(u) + 1) * size_t(n_ - 1));
+        const uint32_t strand_first = uint32_t(strand_of(u) * size_t(n_ - 1)), strand_end = strand_first + uint32_t(n_ - 1);
         const Eigen::Array3f u_lo = box_lo_[u], u_hi = box_hi_[u];
         const Eigen::Array3f lo = u_lo - reach, hi = u_hi + reach;
         for_cells(u, [&](int x, int y, int z) {
-          // With a segment of a strand that never moved: the pair as the search over all segments
-          // would see it from that segment (its box as it was, u's as it is).
+          // With a segment that never moved: from that segment, its box as it was.
           for (const Listed &v : everything_.at(x, y, z))
-            if (meets(v.lo - reach, v.hi + reach, u_lo, u_hi) && !segment_moved[v.segment] &&
-                first_cell(v.segment, u, x, y, z) && near(v.segment, u, reach, 2.0f))
+            if (meets(v.lo - reach, v.hi + reach, u_lo, u_hi) && (v.segment < strand_first || v.segment >= strand_end) &&
+                !stale_[v.segment] && first_cell(v.segment, u, x, y, z) && near(v.segment, u, reach, 2.0f))
               mine.emplace_back(std::min(u, v.segment), std::max(u, v.segment));
-          // Of two moved strands: from the first segment.
-          const std::span<const Listed> listed = moved_grid.at(x, y, z);
-          for (auto it = after(listed, u); it != listed.end(); ++it)
-            if (it->segment >= strand_end && meets(lo, hi, it->lo, it->hi) && first_cell(u, it->segment, x, y, z) &&
-                near(u, it->segment, reach, 2.0f))
-              mine.emplace_back(u, it->segment);
+          // With a segment that moved before (as it is now), or since (from the first of the two).
+          for (const Listed &v : stale_grid.at(x, y, z))
+            if ((v.segment < strand_first || v.segment >= strand_end) && !(is_moving[v.segment] && v.segment < u) &&
+                meets(lo, hi, v.lo, v.hi) && first_cell(u, v.segment, x, y, z) && near(u, v.segment, reach, 2.0f))
+              mine.emplace_back(std::min(u, v.segment), std::max(u, v.segment));
         });
       }
 #pragma omp critical(plume_separate_pairs)
       found.insert(found.end(), mine.begin(), mine.end());
     }
     std::sort(found.begin(), found.end());
-    // Merged with the first search's pairs of two strands that never moved (disjoint, both sorted).
+    // Merged with the candidates without a moving segment (disjoint, both sorted).
     std::vector<Pair> merged;
     std::vector<uint8_t> flags;
     std::vector<uint32_t> measure;  // the merged indices of the pairs found now
-    merged.reserve(found.size() + initial_.size());
-    flags.reserve(found.size() + initial_.size());
+    merged.reserve(found.size() + candidates_.size());
+    flags.reserve(found.size() + candidates_.size());
     size_t f = 0;
-    for (size_t c = 0; c <= initial_.size(); ++c) {
-      const bool last = c == initial_.size();
-      if (!last && (active[strand_of(initial_[c].first)] || active[strand_of(initial_[c].second)])) continue;
-      for (; f < found.size() && (last || found[f] < initial_[c]); ++f) {
+    for (size_t c = 0; c <= candidates_.size(); ++c) {
+      const bool last = c == candidates_.size();
+      if (!last && (is_moving[candidates_[c].first] || is_moving[candidates_[c].second])) continue;
+      for (; f < found.size() && (last || found[f] < candidates_[c]); ++f) {
         measure.push_back(uint32_t(merged.size()));
         merged.push_back(found[f]);
         flags.push_back(0);
       }
       if (last) break;
-      merged.push_back(initial_[c]);
-      flags.push_back(initial_near_[c]);
+      merged.push_back(candidates_[c]);
+      flags.push_back(near_flags_[c]);
     }
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
 #pragma omp parallel for schedule(static, 1024)
@@ -221,13 +221,6 @@ class Separator {
     pairs.reserve(near_.size());
     for (const uint32_t c : near_) pairs.push_back(candidates_[c]);
     return pairs;
-  }
-  /// One flag per strand, set when a point of it is not where growth put it.
-  std::vector<uint8_t> ever_moved() const {
-    std::vector<uint8_t> flags(strand_count_, 0);
-    for (size_t k = 0; k < original_.size(); ++k)
-      if (positions_[k] != original_[k]) flags[strand_of_point(k)] = 1;
-    return flags;
   }
   /// The largest distance from its place at the last search at which a point was put since: at
   /// least the largest distance of a point from it now.
@@ -601,19 +594,19 @@ class Separator {
   float drift_squared_ = 0.0f;             // drift(), squared
   std::vector<float> largest_move_;        // per strand
   // The search: the reach, the cell size, each segment's box and the cells it meets grown by the
-  // reach (as at the last search that saw the segment move), and the grid of the first search.
+  // reach (as at the last search that saw the segment move), the grid of the first search, and
+  // the segments moved since it (one flag each).
   float reach_ = 0.0f;
   float cell_ = 1.0f;
   std::vector<Eigen::Array3f> box_lo_, box_hi_;
   std::vector<Eigen::Array3i> cell_lo_, cell_hi_;
   Grid everything_;
+  std::vector<uint8_t> stale_;
   // The candidate pairs (sorted), flagged when nearer than the detection distance at their last
-  // measure; the first search's; each strand's candidates (indices into candidates_):
+  // measure; each strand's candidates (indices into candidates_):
   // listed_[listed_first_[s] .. listed_first_[s + 1]); and the near ones (indices, sorted).
   std::vector<Pair> candidates_;
   std::vector<uint8_t> near_flags_;
-  std::vector<Pair> initial_;
-  std::vector<uint8_t> initial_near_;
   std::vector<size_t> listed_first_;
   std::vector<uint32_t> listed_;
   std::vector<uint32_t> near_;

@@ -248,32 +248,41 @@ class Separator {
     const size_t sa = strand_of(u), sb = strand_of(v);
     const int ia = index_in_strand(u), ib = index_in_strand(v);
     // The exact side: from b's curve to a's, at their closest points within a segment of the meeting.
-    Vec e = exact_side(sa, (double(ia) + s) / double(n_ - 1), sb, (double(ib) + t) / double(n_ - 1));
-    if (e.squaredNorm() == 0.0) {
-      ++stats.undecided;
-      e = pa - pb;
-      // The segments meet: perpendicular to a's segment, in the plane of the two (a planar scene's).
-      if (e.squaredNorm() == 0.0) e = (a1 - a0).cross(b1 - b0).cross(a1 - a0);
-      if (e.squaredNorm() == 0.0) return false;
-      e.normalize();
-    }
-    // Skew segments are pushed along their common normal, on e's side (where e lies nearly in the
-    // segments' plane the curves are beside each other there, and either side of the plane parts
-    // the segments); segments in one plane with e (a planar scene) along e itself, which keeps them
-    // in it.
-    // The direction is chosen at the pair's first push and kept: the segments turn a little as they
-    // move, and a side taken from a nearly planar e could otherwise flip back and forth.
+    // The exact side, e: from b's curve to a's, at their closest points within a segment of the
+    // meeting; where the curves meet there, the segments' own. A pair's push direction is chosen
+    // from e at its first push and kept (below), so e is needed again only to tell whether the pair
+    // can move at all (no side at all: the curves and the segments meet, and the segments are
+    // parallel).
     const uint64_t key = (uint64_t(u) << 32) | v;
     auto chosen = directions_.find(key);
-    if (chosen == directions_.end()) {
-      const Vec ua = (a1 - a0).normalized(), ub = (b1 - b0).normalized();
-      const Vec normal = ua.cross(ub);
-      const bool skew = normal.norm() > 1e-3 && std::abs(e.dot(normal.normalized())) >= 1e-3;
-      const double side = e.dot(normal);
-      chosen = directions_.emplace(key, Chosen{skew ? Vec(side >= 0.0 ? normal.normalized()
-                                                                       : Vec(-normal.normalized()))
-                                                    : e,
-                                               skew}).first;
+    const bool without_own_side =
+        (pa - pb).squaredNorm() == 0.0 && (a1 - a0).cross(b1 - b0).cross(a1 - a0).squaredNorm() == 0.0;
+    if (chosen == directions_.end() || without_own_side) {
+      Vec e = exact_side(sa, (double(ia) + s) / double(n_ - 1), sb, (double(ib) + t) / double(n_ - 1));
+      if (e.squaredNorm() == 0.0) {
+        ++stats.undecided;
+        e = pa - pb;
+        // The segments meet: perpendicular to a's segment, in the plane of the two (a planar scene's).
+        if (e.squaredNorm() == 0.0) e = (a1 - a0).cross(b1 - b0).cross(a1 - a0);
+        if (e.squaredNorm() == 0.0) return false;
+        e.normalize();
+      }
+      // Skew segments are pushed along their common normal, on e's side (where e lies nearly in the
+      // segments' plane the curves are beside each other there, and either side of the plane parts
+      // the segments); segments in one plane with e (a planar scene) along e itself, which keeps them
+      // in it.
+      // The direction is chosen at the pair's first push and kept: the segments turn a little as they
+      // move, and a side taken from a nearly planar e could otherwise flip back and forth.
+      if (chosen == directions_.end()) {
+        const Vec ua = (a1 - a0).normalized(), ub = (b1 - b0).normalized();
+        const Vec normal = ua.cross(ub);
+        const bool skew = normal.norm() > 1e-3 && std::abs(e.dot(normal.normalized())) >= 1e-3;
+        const double side = e.dot(normal);
+        chosen = directions_.emplace(key, Chosen{skew ? Vec(side >= 0.0 ? normal.normalized()
+                                                                         : Vec(-normal.normalized()))
+                                                      : e,
+                                                 skew}).first;
+      }
     }
     const Vec direction = chosen->second.direction;
     const bool skew = chosen->second.skew;

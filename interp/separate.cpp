@@ -49,7 +49,7 @@ class Separator {
     }
     // The floor of each point's signed distance is the margin, or half its bound when growth left it
     // nearer (a root climbing out, a strand ended at the skin): never inside the skin.
-    moved_.assign(strand_count_, 0);
+    moved_.assign(strand_count_ * size_t(n - 1), 0);
     floor_.resize(lower.size());
     for (size_t k = 0; k < lower.size(); ++k) floor_[k] = lower[k] >= margin ? margin : 0.5f * lower[k];
   }
@@ -186,13 +186,13 @@ class Separator {
     mark_searched();
   }
 
-  /// Measures again the candidates of the strands that moved since they were measured, each once.
+  /// Measures again the candidates with a segment that moved since they were measured, each once.
   void measure_moved(float detect) {
     std::vector<uint32_t> again;
-    for (size_t strand = 0; strand < strand_count_; ++strand)
-      if (moved_[strand])
-        again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[strand]),
-                     listed_.begin() + std::ptrdiff_t(listed_first_[strand + 1]));
+    for (size_t u = 0; u < moved_.size(); ++u)
+      if (moved_[u])
+        again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[u]),
+                     listed_.begin() + std::ptrdiff_t(listed_first_[u + 1]));
     std::fill(moved_.begin(), moved_.end(), 0);
     std::sort(again.begin(), again.end());
     again.erase(std::unique(again.begin(), again.end()), again.end());
@@ -450,19 +450,26 @@ class Separator {
   }
   /// The candidates changed: each strand's candidates listed again, and the near ones.
   void candidates_changed() {
-    listed_first_.assign(strand_count_ + 1, 0);
-    for (const auto &[u, v] : candidates_) ++listed_first_[strand_of(u) + 1], ++listed_first_[strand_of(v) + 1];
-    for (size_t c = 0; c < strand_count_; ++c) listed_first_[c + 1] += listed_first_[c];
+    listed_first_.assign(moved_.size() + 1, 0);
+    for (const auto &[u, v] : candidates_) ++listed_first_[u + 1], ++listed_first_[v + 1];
+    for (size_t u = 0; u < moved_.size(); ++u) listed_first_[u + 1] += listed_first_[u];
     listed_.resize(listed_first_.back());
     std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
     for (size_t c = 0; c < candidates_.size(); ++c) {
-      listed_[next[strand_of(candidates_[c].first)]++] = uint32_t(c);
-      listed_[next[strand_of(candidates_[c].second)]++] = uint32_t(c);
+      listed_[next[candidates_[c].first]++] = uint32_t(c);
+      listed_[next[candidates_[c].second]++] = uint32_t(c);
     }
     near_.clear();
     for (size_t c = 0; c < candidates_.size(); ++c)
       if (near_flags_[c]) near_.push_back(uint32_t(c));
     std::fill(moved_.begin(), moved_.end(), 0);
+  }
+  /// Point k moves: the segments it ends are flagged for measuring again.
+  void mark_moved(size_t k) {
+    const size_t strand = strand_of_point(k), j = k - strand * size_t(n_);
+    const size_t first = strand * size_t(n_ - 1);
+    if (j > 0) moved_[first + j - 1] = 1;
+    if (j + 1 < size_t(n_)) moved_[first + j] = 1;
   }
   void mark_searched() {
     searched_.assign(positions_.begin(), positions_.end());
@@ -554,7 +561,7 @@ class Separator {
     if (!to.allFinite() || !(delta.squaredNorm() > 0.0f) || (to - original_[k]).norm() > largest) return 0.0;
     float bound = lower_[k] - delta.norm();
     if (bound >= floor_[k]) {
-      moved_[strand] = 1;
+      mark_moved(k);
       positions_[k] = to;
       drift_squared_ = std::max(drift_squared_, (to - searched_[k]).squaredNorm());
       lower_[k] = bound;
@@ -578,7 +585,7 @@ class Separator {
     bound = grid_.signed_distance(target, closest.triangle, closest);
     if (!(bound >= floor_[k])) return 0.0;
     ++stats.slid;
-    moved_[strand] = 1;
+    mark_moved(k);
     positions_[k] = target;
     drift_squared_ = std::max(drift_squared_, (target - searched_[k]).squaredNorm());
     lower_[k] = bound;
@@ -612,8 +619,8 @@ class Separator {
   Grid everything_;
   std::vector<uint8_t> stale_;
   // The candidate pairs (sorted), flagged when nearer than the detection distance at their last
-  // measure; each strand's candidates (indices into candidates_):
-  // listed_[listed_first_[s] .. listed_first_[s + 1]); and the near ones (indices, sorted).
+  // measure; each segment's candidates (indices into candidates_):
+  // listed_[listed_first_[u] .. listed_first_[u + 1]); and the near ones (indices, sorted).
   std::vector<Pair> candidates_;
   std::vector<uint8_t> near_flags_;
   std::vector<size_t> listed_first_;
@@ -622,7 +629,7 @@ class Separator {
   size_t strand_count_ = 0;
   std::vector<float> arcs_;
   std::vector<float> floor_;
-  std::vector<uint8_t> moved_;
+  std::vector<uint8_t> moved_;  // per segment: moved since its candidates were measured
 };
 
 }  // namespace

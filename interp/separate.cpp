@@ -482,11 +482,14 @@ class Separator {
     return point(strand_of(u), index_in_strand(u) + which);
   }
 
+  /// Whether segments u and v are nearer than `distance` at an angle whose cosine is below
+  /// `cos_angle` (any angle when it is above 1), or in one plane.
   bool near(size_t u, size_t v, float distance, float cos_angle) const {
     const Vec a0 = to_d(end(u, 0)), a1 = to_d(end(u, 1)), b0 = to_d(end(v, 0)), b1 = to_d(end(v, 1));
     double s = 0.0, t = 0.0;
     closest_segment_parameters(a0, a1, b0, b1, s, t);
     if (((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm() >= double(distance)) return false;
+    if (cos_angle > 1.0f) return true;  // at any angle
     const Vec da = a1 - a0, db = b1 - b0;
     const double la = da.norm(), lb = db.norm();
     if (la <= 0.0 || lb <= 0.0) return true;

@@ -649,8 +649,10 @@ SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, co
   const float detect = separation_detect * tolerance;
   // Every pair that can come within `detect` while each point moves at most `slack` (30 tolerances:
   // on Sintel, fewer searches cost more in pairs measured, more cost more in searches), found over
-  // all segments; each sweep measures these alone, until a point has drifted farther than `slack`
-  // since: then they are found again.
+  // all segments; each sweep measures again those of the segments that moved, until a point has
+  // drifted farther than `slack` since the last search: then those of the segments that moved since
+  // are found again. Every pair within `detect` at a sweep is so among the candidates, whenever the
+  // searches run.
   const float slack = 30.0f * tolerance;
   separator.search_all(detect + 2.0f * slack, detect);
   stats.searches = 1;

@@ -49,156 +49,194 @@ class Separator {
     }
     // The floor of each point's signed distance is the margin, or half its bound when growth left it
     // nearer (a root climbing out, a strand ended at the skin): never inside the skin.
-    moved_.assign(strand_count_, 0);
+    moved_.assign(strand_count_ * size_t(n - 1), 0);
     floor_.resize(lower.size());
     for (size_t k = 0; k < lower.size(); ++k) floor_[k] = lower[k] >= margin ? margin : 0.5f * lower[k];
   }
 
-  /// Of `candidates`, the pairs nearer than `distance` at an angle above the pass's; `r_near` holds
-  /// one flag per candidate, measured again only where a strand of the pair moved since it was
-  /// (`moved`, one flag per strand; all when empty).
-  std::vector<std::pair<uint32_t, uint32_t>> near_among(const std::vector<std::pair<uint32_t, uint32_t>> &candidates,
-                                                        float distance, const std::vector<uint8_t> &moved,
-                                                        std::vector<uint8_t> &r_near) {
-    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
-    r_near.resize(candidates.size(), 0);
-    const size_t per_strand = size_t(n_ - 1);
-    if (moved.empty()) {
-      // Every candidate, and each strand's candidates listed for the sweeps that follow.
-#pragma omp parallel for schedule(static, 1024)
-      for (int64_t c = 0; c < int64_t(candidates.size()); ++c) {
-        const auto &[u, v] = candidates[size_t(c)];
-        r_near[size_t(c)] = near(u, v, distance, cos_angle);
-      }
-      listed_first_.assign(strand_count_ + 1, 0);
-      for (const auto &[u, v] : candidates) ++listed_first_[u / per_strand + 1], ++listed_first_[v / per_strand + 1];
-      for (size_t c = 0; c < strand_count_; ++c) listed_first_[c + 1] += listed_first_[c];
-      listed_.resize(listed_first_.back());
-      std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
-      for (size_t c = 0; c < candidates.size(); ++c) {
-        listed_[next[candidates[c].first / per_strand]++] = uint32_t(c);
-        listed_[next[candidates[c].second / per_strand]++] = uint32_t(c);
-      }
-    } else {
-      // The candidates of the strands that moved, each once, in order.
-      std::vector<uint32_t> again;
-      for (size_t strand = 0; strand < strand_count_; ++strand)
-        if (moved[strand])
-          again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[strand]),
-                       listed_.begin() + std::ptrdiff_t(listed_first_[strand + 1]));
-      std::sort(again.begin(), again.end());
-      again.erase(std::unique(again.begin(), again.end()), again.end());
-#pragma omp parallel for schedule(static, 256) if (again.size() > 4096)
-      for (int64_t i = 0; i < int64_t(again.size()); ++i) {
-        const auto &[u, v] = candidates[again[size_t(i)]];
-        r_near[again[size_t(i)]] = near(u, v, distance, cos_angle);
-      }
-    }
-    std::vector<std::pair<uint32_t, uint32_t>> pairs;
-    for (size_t c = 0; c < candidates.size(); ++c)
-      if (r_near[c]) pairs.push_back(candidates[c]);
-    return pairs;
-  }
-  /// One flag per strand, set when a point of it has moved since the last call.
-  std::vector<uint8_t> take_moved() {
-    std::vector<uint8_t> moved(strand_count_, 0);
-    std::swap(moved, moved_);
-    moved_.assign(strand_count_, 0);
-    return moved;
-  }
-  /// The largest distance a point moved since the last search over all segments (mark_searched).
-  float drift() const {
-    float largest = 0.0f;
-    for (size_t k = 0; k < searched_.size(); ++k) largest = std::max(largest, (positions_[k] - searched_[k]).squaredNorm());
-    return std::sqrt(largest);
-  }
-  void mark_searched() { searched_.assign(positions_.begin(), positions_.end()); }
-  /// One flag per strand, set when a point of it is not where growth put it.
-  std::vector<uint8_t> ever_moved() const {
-    std::vector<uint8_t> flags(strand_count_, 0);
-    for (size_t k = 0; k < original_.size(); ++k)
-      if (positions_[k] != original_[k]) flags[k / size_t(n_)] = 1;
-    return flags;
-  }
-  size_t strand_of(uint32_t segment) const { return segment / size_t(n_ - 1); }
+  using Pair = std::pair<uint32_t, uint32_t>;
 
-  /// Segment pairs (indices strand * (n - 1) + j, first < second) of different strands nearer than
-  /// `distance` (at an angle above the pass's unless `any_angle`), sorted; with `active` (one flag per
-  /// strand), only the pairs with a segment of a flagged strand.
-  std::vector<std::pair<uint32_t, uint32_t>> near_pairs(float distance, bool any_angle = false,
-                                                        const std::vector<uint8_t> *active = nullptr) const {
+  /// The first search: the candidates are every pair of segments of different strands nearer than
+  /// `reach` at any angle (indices strand * (n - 1) + j, first < second, sorted), found over all
+  /// segments; then measured: which are nearer than `detect` at an angle above the pass's.
+  void search_all(float reach, float detect) {
     const size_t segments = strand_count_ * size_t(n_ - 1);
-    // A uniform grid of cells about a median segment wide; each segment listed in the cells its box
-    // (grown by `distance`) meets, in index order.
+    reach_ = reach;
+    // A uniform grid of cells about a median segment wide, kept for the searches that follow.
     std::vector<float> lengths;
     lengths.reserve(segments);
     for (size_t u = 0; u < segments; ++u) lengths.push_back((end(u, 1) - end(u, 0)).norm());
     std::nth_element(lengths.begin(), lengths.begin() + segments / 2, lengths.end());
-    const float cell = std::max(lengths[segments / 2], 1e-20f) + 2.0f * distance;
-    auto key = [](int64_t x, int64_t y, int64_t z) {
-      return uint64_t(x & 0x1fffff) | (uint64_t(y & 0x1fffff) << 21) | (uint64_t(z & 0x1fffff) << 42);
-    };
-    // Each segment's box and the cells its box grown by `distance` meets.
-    std::vector<Eigen::Array3f> box_lo(segments), box_hi(segments);
-    std::vector<Eigen::Array3i> cell_lo(segments), cell_hi(segments);
+    cell_ = std::max(lengths[segments / 2], 1e-20f) + 2.0f * reach;
+    box_lo_.resize(segments), box_hi_.resize(segments), cell_lo_.resize(segments), cell_hi_.resize(segments);
 #pragma omp parallel for schedule(static, 4096)
-    for (int64_t su = 0; su < int64_t(segments); ++su) {
-      const size_t u = size_t(su);
-      const Eigen::Vector3f a = end(u, 0), b = end(u, 1);
-      box_lo[u] = a.cwiseMin(b).array();
-      box_hi[u] = a.cwiseMax(b).array();
-      cell_lo[u] = ((box_lo[u] - distance) / cell).floor().cast<int>();
-      cell_hi[u] = ((box_hi[u] + distance) / cell).floor().cast<int>();
-    }
-    // The cells list every segment (of an active strand, with `active`), in index order; each
-    // segment looks up the cells its own box meets.
-    auto listed = [&](size_t u) { return !active || (*active)[u / size_t(n_ - 1)] != 0; };
-    std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
-    for (size_t u = 0; u < segments; ++u) {
-      if (!listed(u)) continue;
-      const Eigen::Array3i &lo = cell_lo[u], &hi = cell_hi[u];
-      for (int x = lo.x(); x <= hi.x(); ++x)
-        for (int y = lo.y(); y <= hi.y(); ++y)
-          for (int z = lo.z(); z <= hi.z(); ++z) cells[key(x, y, z)].push_back(uint32_t(u));
-    }
-    const float cos_angle = any_angle ? 2.0f : std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
-    std::vector<std::pair<uint32_t, uint32_t>> pairs;
+    for (int64_t u = 0; u < int64_t(segments); ++u) box(size_t(u));
+    everything_ = grid_of(nullptr);
+    std::vector<Pair> found;
 #pragma omp parallel
     {
-      std::vector<std::pair<uint32_t, uint32_t>> mine;
+      std::vector<Pair> mine;
 #pragma omp for schedule(dynamic, 256)
       for (int64_t su = 0; su < int64_t(segments); ++su) {
-        const size_t u = size_t(su);
-        const size_t strand = u / size_t(n_ - 1);
-        const bool u_listed = listed(u);
-        const Eigen::Array3i lo = cell_lo[u], hi = cell_hi[u];
-        const Eigen::Array3f ulo = box_lo[u] - distance, uhi = box_hi[u] + distance;
-        for (int x = lo.x(); x <= hi.x(); ++x)
-          for (int y = lo.y(); y <= hi.y(); ++y)
-            for (int z = lo.z(); z <= hi.z(); ++z) {
-              const auto found = cells.find(key(x, y, z));
-              if (found == cells.end()) continue;
-              for (const uint32_t v : found->second) {
-                const size_t other = v / size_t(n_ - 1);
-                // Each pair once: from its first segment when both are listed.
-                if (other == strand || (u_listed && v <= u)) continue;
-                // The segments' own boxes, grown by the distance, must meet (a cheap test first).
-                if ((box_lo[v] > uhi).any() || (box_hi[v] < ulo).any()) continue;
-                // Counted in the first cell both boxes share, so each pair once.
-                const Eigen::Array3i first = lo.max(cell_lo[v]);
-                if (first.x() != x || first.y() != y || first.z() != z) continue;
-                if (near(u, v, distance, cos_angle))
-                  mine.emplace_back(uint32_t(std::min<size_t>(u, v)), uint32_t(std::max<size_t>(u, v)));
-              }
-            }
+        const uint32_t u = uint32_t(su);
+        // Each pair from its first segment; the segments after u's own strand's are of other strands.
+        const uint32_t strand_end = uint32_t((strand_of(u) + 1) * size_t(n_ - 1));
+        const Eigen::Array3f lo = box_lo_[u] - reach, hi = box_hi_[u] + reach;
+        for_cells(u, [&](int x, int y, int z) {
+          const std::span<const Listed> listed = everything_.at(x, y, z);
+          for (auto it = after(listed, u); it != listed.end(); ++it)
+            if (it->segment >= strand_end && meets(lo, hi, it->lo, it->hi) && first_cell(u, it->segment, x, y, z) &&
+                near(u, it->segment, reach, 2.0f))
+              mine.emplace_back(u, it->segment);
+        });
       }
 #pragma omp critical(plume_separate_pairs)
-      pairs.insert(pairs.end(), mine.begin(), mine.end());
+      found.insert(found.end(), mine.begin(), mine.end());
     }
-    std::sort(pairs.begin(), pairs.end());
-    return pairs;
+    std::sort(found.begin(), found.end());
+    candidates_ = std::move(found);
+    near_flags_.assign(candidates_.size(), 0);
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+#pragma omp parallel for schedule(static, 1024)
+    for (int64_t c = 0; c < int64_t(candidates_.size()); ++c) {
+      const auto &[u, v] = candidates_[size_t(c)];
+      near_flags_[size_t(c)] = near(u, v, detect, cos_angle);
+    }
+    stale_.assign(segments, 0);
+    candidates_changed();
+    mark_searched();
   }
 
+  /// A search again, at the points' places now: the pairs with a segment that moved since the last
+  /// search are searched anew from those segments (against the first search's grid for the segments
+  /// that never moved, and the moved ones' as they are now) and measured; the other candidates stay
+  /// as they were found and measured (a pair nearer than the reach now that has neither was as near
+  /// at the last search).
+  void search_again(float detect) {
+    const size_t segments = box_lo_.size();
+    std::vector<uint32_t> moving, stale;
+    std::vector<uint8_t> is_moving(segments, 0);
+    for (size_t u = 0; u < segments; ++u) {
+      const size_t k = strand_of(u) * size_t(n_) + size_t(index_in_strand(u));
+      if (positions_[k] != searched_[k] || positions_[k + 1] != searched_[k + 1]) {
+        moving.push_back(uint32_t(u));
+        is_moving[u] = stale_[u] = 1;
+      }
+      if (stale_[u]) stale.push_back(uint32_t(u));
+    }
+#pragma omp parallel for schedule(static, 1024)
+    for (int64_t i = 0; i < int64_t(moving.size()); ++i) box(moving[size_t(i)]);
+    const Grid stale_grid = grid_of(&stale);
+    const float reach = reach_;
+    std::vector<Pair> found;
+#pragma omp parallel
+    {
+      std::vector<Pair> mine;
+#pragma omp for schedule(dynamic, 64)
+      for (int64_t i = 0; i < int64_t(moving.size()); ++i) {
+        const uint32_t u = moving[size_t(i)];
+        const uint32_t strand_first = uint32_t(strand_of(u) * size_t(n_ - 1)), strand_end = strand_first + uint32_t(n_ - 1);
+        const Eigen::Array3f u_lo = box_lo_[u], u_hi = box_hi_[u];
+        const Eigen::Array3f lo = u_lo - reach, hi = u_hi + reach;
+        for_cells(u, [&](int x, int y, int z) {
+          // With a segment that never moved: from that segment, its box as it was.
+          for (const Listed &v : everything_.at(x, y, z))
+            if (meets(v.lo - reach, v.hi + reach, u_lo, u_hi) && (v.segment < strand_first || v.segment >= strand_end) &&
+                !stale_[v.segment] && first_cell(v.segment, u, x, y, z) && near(v.segment, u, reach, 2.0f))
+              mine.emplace_back(std::min(u, v.segment), std::max(u, v.segment));
+          // With a segment that moved before (as it is now), or since (from the first of the two).
+          for (const Listed &v : stale_grid.at(x, y, z))
+            if ((v.segment < strand_first || v.segment >= strand_end) && !(is_moving[v.segment] && v.segment < u) &&
+                meets(lo, hi, v.lo, v.hi) && first_cell(u, v.segment, x, y, z) && near(u, v.segment, reach, 2.0f))
+              mine.emplace_back(std::min(u, v.segment), std::max(u, v.segment));
+        });
+      }
+#pragma omp critical(plume_separate_pairs)
+      found.insert(found.end(), mine.begin(), mine.end());
+    }
+    std::sort(found.begin(), found.end());
+    // Merged with the candidates without a moving segment (disjoint, both sorted).
+    std::vector<Pair> merged;
+    std::vector<uint8_t> flags;
+    std::vector<uint32_t> measure;  // the merged indices of the pairs found now
+    merged.reserve(found.size() + candidates_.size());
+    flags.reserve(found.size() + candidates_.size());
+    size_t f = 0;
+    for (size_t c = 0; c <= candidates_.size(); ++c) {
+      const bool last = c == candidates_.size();
+      if (!last && (is_moving[candidates_[c].first] || is_moving[candidates_[c].second])) continue;
+      for (; f < found.size() && (last || found[f] < candidates_[c]); ++f) {
+        measure.push_back(uint32_t(merged.size()));
+        merged.push_back(found[f]);
+        flags.push_back(0);
+      }
+      if (last) break;
+      merged.push_back(candidates_[c]);
+      flags.push_back(near_flags_[c]);
+    }
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+#pragma omp parallel for schedule(static, 1024)
+    for (int64_t i = 0; i < int64_t(measure.size()); ++i) {
+      const auto &[u, v] = merged[measure[size_t(i)]];
+      flags[measure[size_t(i)]] = near(u, v, detect, cos_angle);
+    }
+    candidates_ = std::move(merged);
+    near_flags_ = std::move(flags);
+    candidates_changed();
+    mark_searched();
+  }
+
+  /// Measures again the candidates with a segment that moved since they were measured, each once.
+  void measure_moved(float detect) {
+    std::vector<uint32_t> again;
+    for (size_t u = 0; u < moved_.size(); ++u)
+      if (moved_[u])
+        again.insert(again.end(), listed_.begin() + std::ptrdiff_t(listed_first_[u]),
+                     listed_.begin() + std::ptrdiff_t(listed_first_[u + 1]));
+    std::fill(moved_.begin(), moved_.end(), 0);
+    std::sort(again.begin(), again.end());
+    again.erase(std::unique(again.begin(), again.end()), again.end());
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+#pragma omp parallel for schedule(static, 256) if (again.size() > 4096)
+    for (int64_t i = 0; i < int64_t(again.size()); ++i) {
+      const auto &[u, v] = candidates_[again[size_t(i)]];
+      near_flags_[again[size_t(i)]] = near(u, v, detect, cos_angle);
+    }
+    // The near candidates: those not measured again as they were, and those measured again now near.
+    std::vector<uint32_t> near_now;
+    near_now.reserve(near_.size() + again.size());
+    size_t a = 0;
+    for (size_t i = 0; i <= near_.size(); ++i) {
+      const uint32_t c = i < near_.size() ? near_[i] : UINT32_MAX;
+      for (; a < again.size() && again[a] <= c; ++a)
+        if (near_flags_[again[a]]) near_now.push_back(again[a]);
+      if (i < near_.size() && (a == 0 || again[a - 1] != c)) near_now.push_back(c);
+    }
+    near_ = std::move(near_now);
+  }
+
+  /// The candidates nearer than `detect` at their last measure, sorted.
+  std::vector<Pair> near_pairs() const {
+    std::vector<Pair> pairs;
+    pairs.reserve(near_.size());
+    for (const uint32_t c : near_) pairs.push_back(candidates_[c]);
+    return pairs;
+  }
+  /// The largest distance from its place at the last search at which a point was put since: at
+  /// least the largest distance of a point from it now.
+  float drift() const { return std::sqrt(drift_squared_); }
+  /// How many of `pairs` are nearer than `distance` at an angle above the pass's.
+  int64_t count_near(const std::vector<Pair> &pairs, float distance) const {
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+    int64_t count = 0;
+    for (const auto &[u, v] : pairs) count += near(u, v, distance, cos_angle);
+    return count;
+  }
+  /// The strand of segment u (indices strand * (n - 1) + j) and u's index j along it.
+  size_t strand_of(size_t u) const { return u / size_t(n_ - 1); }
+  int index_in_strand(size_t u) const { return int(u % size_t(n_ - 1)); }
+  /// The strand of point k (indices strand * n + j).
+  size_t strand_of_point(size_t k) const { return k / size_t(n_); }
   /// Pushes the pair's segments apart (one step of a sweep); returns false when nothing could move.
   bool push(uint32_t u, uint32_t v, SeparationStats &stats) {
     const float detect = separation_detect * tolerance_, goal = double(separation_goal) * tolerance_;
@@ -207,35 +245,44 @@ class Separator {
     closest_segment_parameters(a0, a1, b0, b1, s, t);
     const Vec pa = a0 + s * (a1 - a0), pb = b0 + t * (b1 - b0);
     if ((pa - pb).norm() >= double(detect)) return true;
-    const size_t sa = u / size_t(n_ - 1), sb = v / size_t(n_ - 1);
-    const int ia = int(u % size_t(n_ - 1)), ib = int(v % size_t(n_ - 1));
+    const size_t sa = strand_of(u), sb = strand_of(v);
+    const int ia = index_in_strand(u), ib = index_in_strand(v);
     // The exact side: from b's curve to a's, at their closest points within a segment of the meeting.
-    Vec e = exact_side(sa, (double(ia) + s) / double(n_ - 1), sb, (double(ib) + t) / double(n_ - 1));
-    if (e.squaredNorm() == 0.0) {
-      ++stats.undecided;
-      e = pa - pb;
-      // The segments meet: perpendicular to a's segment, in the plane of the two (a planar scene's).
-      if (e.squaredNorm() == 0.0) e = (a1 - a0).cross(b1 - b0).cross(a1 - a0);
-      if (e.squaredNorm() == 0.0) return false;
-      e.normalize();
-    }
-    // Skew segments are pushed along their common normal, on e's side (where e lies nearly in the
-    // segments' plane the curves are beside each other there, and either side of the plane parts
-    // the segments); segments in one plane with e (a planar scene) along e itself, which keeps them
-    // in it.
-    // The direction is chosen at the pair's first push and kept: the segments turn a little as they
-    // move, and a side taken from a nearly planar e could otherwise flip back and forth.
+    // The exact side, e: from b's curve to a's, at their closest points within a segment of the
+    // meeting; where the curves meet there, the segments' own. A pair's push direction is chosen
+    // from e at its first push and kept (below), so e is needed again only to tell whether the pair
+    // can move at all (no side at all: the curves and the segments meet, and the segments are
+    // parallel).
     const uint64_t key = (uint64_t(u) << 32) | v;
     auto chosen = directions_.find(key);
-    if (chosen == directions_.end()) {
-      const Vec ua = (a1 - a0).normalized(), ub = (b1 - b0).normalized();
-      const Vec normal = ua.cross(ub);
-      const bool skew = normal.norm() > 1e-3 && std::abs(e.dot(normal.normalized())) >= 1e-3;
-      const double side = e.dot(normal);
-      chosen = directions_.emplace(key, Chosen{skew ? Vec(side >= 0.0 ? normal.normalized()
-                                                                       : Vec(-normal.normalized()))
-                                                    : e,
-                                               skew}).first;
+    const bool without_own_side =
+        (pa - pb).squaredNorm() == 0.0 && (a1 - a0).cross(b1 - b0).cross(a1 - a0).squaredNorm() == 0.0;
+    if (chosen == directions_.end() || without_own_side) {
+      Vec e = exact_side(sa, (double(ia) + s) / double(n_ - 1), sb, (double(ib) + t) / double(n_ - 1));
+      if (e.squaredNorm() == 0.0) {
+        ++stats.undecided;
+        e = pa - pb;
+        // The segments meet: perpendicular to a's segment, in the plane of the two (a planar scene's).
+        if (e.squaredNorm() == 0.0) e = (a1 - a0).cross(b1 - b0).cross(a1 - a0);
+        if (e.squaredNorm() == 0.0) return false;
+        e.normalize();
+      }
+      // Skew segments are pushed along their common normal, on e's side (where e lies nearly in the
+      // segments' plane the curves are beside each other there, and either side of the plane parts
+      // the segments); segments in one plane with e (a planar scene) along e itself, which keeps them
+      // in it.
+      // The direction is chosen at the pair's first push and kept: the segments turn a little as they
+      // move, and a side taken from a nearly planar e could otherwise flip back and forth.
+      if (chosen == directions_.end()) {
+        const Vec ua = (a1 - a0).normalized(), ub = (b1 - b0).normalized();
+        const Vec normal = ua.cross(ub);
+        const bool skew = normal.norm() > 1e-3 && std::abs(e.dot(normal.normalized())) >= 1e-3;
+        const double side = e.dot(normal);
+        chosen = directions_.emplace(key, Chosen{skew ? Vec(side >= 0.0 ? normal.normalized()
+                                                                         : Vec(-normal.normalized()))
+                                                      : e,
+                                                 skew}).first;
+      }
     }
     const Vec direction = chosen->second.direction;
     const bool skew = chosen->second.skew;
@@ -321,18 +368,128 @@ class Separator {
   }
 
  private:
+  /// A segment listed in a cell, with its box (read in the cells' order, not the segments').
+  struct Listed {
+    Eigen::Array3f lo, hi;
+    uint32_t segment;
+  };
+  /// Cells listing segments: slot s of a cell holds listed[first[s] .. first[s + 1]), in index order.
+  struct Grid {
+    std::unordered_map<uint64_t, uint32_t> slots;  // cell key -> slot
+    std::vector<uint32_t> first;                   // #slots + 1
+    std::vector<Listed> listed;
+
+    std::span<const Listed> at(int x, int y, int z) const {
+      const auto found = slots.find(key(x, y, z));
+      if (found == slots.end()) return {};
+      return {listed.data() + first[found->second], listed.data() + first[found->second + 1]};
+    }
+  };
+  static uint64_t key(int64_t x, int64_t y, int64_t z) {
+    return uint64_t(x & 0x1fffff) | (uint64_t(y & 0x1fffff) << 21) | (uint64_t(z & 0x1fffff) << 42);
+  }
+  /// The grid of the segments `listed` (sorted; all when null), each in the cells its box grown by
+  /// the reach meets.
+  Grid grid_of(const std::vector<uint32_t> *listed) const {
+    const size_t count = listed ? listed->size() : box_lo_.size();
+    Grid grid;
+    std::vector<uint32_t> slot_of;  // per listing, in order
+    std::vector<uint32_t> sizes;
+    for (size_t i = 0; i < count; ++i) {
+      const uint32_t u = listed ? (*listed)[i] : uint32_t(i);
+      for_cells(u, [&](int x, int y, int z) {
+        const auto [at, added] = grid.slots.try_emplace(key(x, y, z), uint32_t(sizes.size()));
+        if (added) sizes.push_back(0);
+        ++sizes[at->second];
+        slot_of.push_back(at->second);
+      });
+    }
+    grid.first.assign(sizes.size() + 1, 0);
+    for (size_t s = 0; s < sizes.size(); ++s) grid.first[s + 1] = grid.first[s] + sizes[s];
+    grid.listed.resize(slot_of.size());
+    std::vector<uint32_t> next(grid.first.begin(), grid.first.end() - 1);
+    size_t listing = 0;
+    for (size_t i = 0; i < count; ++i) {
+      const uint32_t u = listed ? (*listed)[i] : uint32_t(i);
+      const size_t cells = size_t((cell_hi_[u] - cell_lo_[u] + 1).prod());
+      for (size_t c = 0; c < cells; ++c) grid.listed[next[slot_of[listing++]]++] = Listed{box_lo_[u], box_hi_[u], u};
+    }
+    return grid;
+  }
+  /// Segment u's box, and the cells that box grown by the reach meets.
+  void box(size_t u) {
+    const Eigen::Vector3f a = end(u, 0), b = end(u, 1);
+    box_lo_[u] = a.cwiseMin(b).array();
+    box_hi_[u] = a.cwiseMax(b).array();
+    cell_lo_[u] = ((box_lo_[u] - reach_) / cell_).floor().cast<int>();
+    cell_hi_[u] = ((box_hi_[u] + reach_) / cell_).floor().cast<int>();
+  }
+  template <class Visit>
+  void for_cells(size_t u, Visit &&visit) const {
+    const Eigen::Array3i &lo = cell_lo_[u], &hi = cell_hi_[u];
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) visit(x, y, z);
+  }
+  /// Whether a box (lo, hi) meets a segment's box grown by the reach (grown_lo, grown_hi): the test
+  /// is from the side of the pair's segment that finds the other, as the pair is measured.
+  static bool meets(const Eigen::Array3f &grown_lo, const Eigen::Array3f &grown_hi, const Eigen::Array3f &lo,
+                    const Eigen::Array3f &hi) {
+    return !((lo > grown_hi).any() || (hi < grown_lo).any());
+  }
+  /// Whether cell (x, y, z) is the first both segments' grown boxes meet (so that each pair is
+  /// counted in one cell).
+  bool first_cell(uint32_t u, uint32_t v, int x, int y, int z) const {
+    const Eigen::Array3i first = cell_lo_[u].max(cell_lo_[v]);
+    return first.x() == x && first.y() == y && first.z() == z;
+  }
+  /// The segments listed after u in a cell.
+  static std::span<const Listed>::iterator after(std::span<const Listed> listed, uint32_t u) {
+    return std::upper_bound(listed.begin(), listed.end(), u,
+                            [](uint32_t segment, const Listed &entry) { return segment < entry.segment; });
+  }
+  /// The candidates changed: each strand's candidates listed again, and the near ones.
+  void candidates_changed() {
+    listed_first_.assign(moved_.size() + 1, 0);
+    for (const auto &[u, v] : candidates_) ++listed_first_[u + 1], ++listed_first_[v + 1];
+    for (size_t u = 0; u < moved_.size(); ++u) listed_first_[u + 1] += listed_first_[u];
+    listed_.resize(listed_first_.back());
+    std::vector<size_t> next(listed_first_.begin(), listed_first_.end() - 1);
+    for (size_t c = 0; c < candidates_.size(); ++c) {
+      listed_[next[candidates_[c].first]++] = uint32_t(c);
+      listed_[next[candidates_[c].second]++] = uint32_t(c);
+    }
+    near_.clear();
+    for (size_t c = 0; c < candidates_.size(); ++c)
+      if (near_flags_[c]) near_.push_back(uint32_t(c));
+    std::fill(moved_.begin(), moved_.end(), 0);
+  }
+  /// Point k moves: the segments it ends are flagged for measuring again.
+  void mark_moved(size_t k) {
+    const size_t strand = strand_of_point(k), j = k - strand * size_t(n_);
+    const size_t first = strand * size_t(n_ - 1);
+    if (j > 0) moved_[first + j - 1] = 1;
+    if (j + 1 < size_t(n_)) moved_[first + j] = 1;
+  }
+  void mark_searched() {
+    searched_.assign(positions_.begin(), positions_.end());
+    drift_squared_ = 0.0f;
+  }
+
   Eigen::Vector3f point(size_t strand, int j) const { return positions_[strand * size_t(n_) + size_t(j)]; }
   /// End `which` (0, 1) of segment u.
   Eigen::Vector3f end(size_t u, int which) const {
-    const size_t strand = u / size_t(n_ - 1);
-    return point(strand, int(u % size_t(n_ - 1)) + which);
+    return point(strand_of(u), index_in_strand(u) + which);
   }
 
+  /// Whether segments u and v are nearer than `distance` at an angle whose cosine is below
+  /// `cos_angle` (any angle when it is above 1), or in one plane.
   bool near(size_t u, size_t v, float distance, float cos_angle) const {
     const Vec a0 = to_d(end(u, 0)), a1 = to_d(end(u, 1)), b0 = to_d(end(v, 0)), b1 = to_d(end(v, 1));
     double s = 0.0, t = 0.0;
     closest_segment_parameters(a0, a1, b0, b1, s, t);
     if (((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm() >= double(distance)) return false;
+    if (cos_angle > 1.0f) return true;  // at any angle
     const Vec da = a1 - a0, db = b1 - b0;
     const double la = da.norm(), lb = db.norm();
     if (la <= 0.0 || lb <= 0.0) return true;
@@ -402,12 +559,14 @@ class Separator {
   /// as asked, less when the skin took a part, 0 when refused.
   double try_move(size_t k, const Eigen::Vector3f &delta, SeparationStats &stats) {
     const Eigen::Vector3f to = positions_[k] + delta;
-    const float largest = largest_move_[k / size_t(n_)];
+    const size_t strand = strand_of_point(k);
+    const float largest = largest_move_[strand];
     if (!to.allFinite() || !(delta.squaredNorm() > 0.0f) || (to - original_[k]).norm() > largest) return 0.0;
     float bound = lower_[k] - delta.norm();
     if (bound >= floor_[k]) {
-      moved_[k / size_t(n_)] = 1;
+      mark_moved(k);
       positions_[k] = to;
+      drift_squared_ = std::max(drift_squared_, (to - searched_[k]).squaredNorm());
       lower_[k] = bound;
       return 1.0;
     }
@@ -429,8 +588,9 @@ class Separator {
     bound = grid_.signed_distance(target, closest.triangle, closest);
     if (!(bound >= floor_[k])) return 0.0;
     ++stats.slid;
-    moved_[k / size_t(n_)] = 1;
+    mark_moved(k);
     positions_[k] = target;
+    drift_squared_ = std::max(drift_squared_, (target - searched_[k]).squaredNorm());
     lower_[k] = bound;
     return std::clamp(double(moved.dot(delta)) / double(delta.squaredNorm()), 0.0, 1.0);
   }
@@ -450,15 +610,29 @@ class Separator {
   std::span<float> lower_;
   std::vector<Eigen::Vector3f> original_;
   std::vector<Eigen::Vector3f> searched_;  // the points at the last search over all segments
+  float drift_squared_ = 0.0f;             // drift(), squared
   std::vector<float> largest_move_;        // per strand
-  // The candidates of each strand (indices into the candidate pairs), from near_among's full pass:
-  // listed_[listed_first_[s] .. listed_first_[s + 1]).
+  // The search: the reach, the cell size, each segment's box and the cells it meets grown by the
+  // reach (as at the last search that saw the segment move), the grid of the first search, and
+  // the segments moved since it (one flag each).
+  float reach_ = 0.0f;
+  float cell_ = 1.0f;
+  std::vector<Eigen::Array3f> box_lo_, box_hi_;
+  std::vector<Eigen::Array3i> cell_lo_, cell_hi_;
+  Grid everything_;
+  std::vector<uint8_t> stale_;
+  // The candidate pairs (sorted), flagged when nearer than the detection distance at their last
+  // measure; each segment's candidates (indices into candidates_):
+  // listed_[listed_first_[u] .. listed_first_[u + 1]); and the near ones (indices, sorted).
+  std::vector<Pair> candidates_;
+  std::vector<uint8_t> near_flags_;
   std::vector<size_t> listed_first_;
   std::vector<uint32_t> listed_;
+  std::vector<uint32_t> near_;
   size_t strand_count_ = 0;
   std::vector<float> arcs_;
   std::vector<float> floor_;
-  std::vector<uint8_t> moved_;
+  std::vector<uint8_t> moved_;  // per segment: moved since its candidates were measured
 };
 
 }  // namespace
@@ -475,39 +649,30 @@ SeparationStats separate_strands(std::span<Eigen::Vector3f> positions, int n, co
   const float detect = separation_detect * tolerance;
   // Every pair that can come within `detect` while each point moves at most `slack` (30 tolerances:
   // on Sintel, fewer searches cost more in pairs measured, more cost more in searches), found over
-  // all segments; each sweep measures these alone, until a point has drifted farther than `slack`
-  // since: then they are found again.
+  // all segments; each sweep measures again those of the segments that moved, until a point has
+  // drifted farther than `slack` since the last search: then those of the segments that moved since
+  // are found again. Every pair within `detect` at a sweep is so among the candidates, whenever the
+  // searches run.
   const float slack = 30.0f * tolerance;
-  const std::vector<std::pair<uint32_t, uint32_t>> initial = separator.near_pairs(detect + 2.0f * slack, true);
-  std::vector<std::pair<uint32_t, uint32_t>> candidates = initial;
+  separator.search_all(detect + 2.0f * slack, detect);
   stats.searches = 1;
-  std::vector<uint8_t> is_near;
-  std::vector<std::pair<uint32_t, uint32_t>> pairs = separator.near_among(candidates, detect, {}, is_near);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs = separator.near_pairs();
   stats.pairs_found = int64_t(pairs.size());
   while (!pairs.empty() && stats.sweeps < max_sweeps) {
     ++stats.sweeps;
     bool moved = false;
     for (const auto &[u, v] : pairs) moved = separator.push(u, v, stats) || moved;
     if (separator.drift() > slack) {
-      // Found again: the pairs of two strands that never moved are as they were at the first
-      // search; those with a moved strand are searched at the points' places now.
-      const std::vector<uint8_t> active = separator.ever_moved();
-      candidates = separator.near_pairs(detect + 2.0f * slack, true, &active);
-      for (const auto &pair : initial)
-        if (!active[separator.strand_of(pair.first)] && !active[separator.strand_of(pair.second)])
-          candidates.push_back(pair);
-      std::sort(candidates.begin(), candidates.end());
-      separator.mark_searched();
+      separator.search_again(detect);
       ++stats.searches;
-      is_near.clear();
-      separator.take_moved();
-      pairs = separator.near_among(candidates, detect, {}, is_near);
     } else {
-      pairs = separator.near_among(candidates, detect, separator.take_moved(), is_near);
+      separator.measure_moved(detect);
     }
+    pairs = separator.near_pairs();
     if (!moved) break;
   }
-  stats.pairs_left = int64_t(separator.near_among(candidates, tolerance, {}, is_near).size());
+  // `pairs` are those nearer than `detect` now, and any pair nearer than the tolerance is one of them.
+  stats.pairs_left = separator.count_near(pairs, tolerance);
   stats.points_moved = separator.points_moved();
   stats.largest_move = separator.largest_move();
   return stats;

@@ -46,10 +46,12 @@ struct SeparationStats {
   int64_t pairs_found = 0;   // segment pairs within separation_detect at the first sweep
   int64_t pairs_left = 0;    // segment pairs still within the checker's tolerance after the last sweep
   int64_t points_moved = 0;  // written points moved (each counted once)
-  int64_t undecided = 0;     // pairs whose exact curves were themselves too close to tell a side
+  int64_t undecided = 0;     // pushes whose exact curves were themselves too close to tell a side (looked
+                             // at on a pair's first push, and again where its segments meet in parallel)
   int64_t slid = 0;          // moves near the skin that lost their part into it
   int64_t retracted = 0;     // tips moved back along their own last segment (a tip at the skin)
-  int searches = 0;          // searches of the pairs over all segments (again when points drifted far)
+  int searches = 0;          // searches for pairs: the first over all segments, then again from the
+                             // segments that moved since the last, when a point has drifted far
   int sweeps = 0;
   float largest_move = 0.0f;  // the largest distance a point moved, in scene units
 };

@@ -419,7 +419,6 @@ int run_feather_check(const FeatherCheckArgs &args) {
     points = file.mesh.positions;
     first.assign(points.size(), false);
     triangle_count = file.mesh.triangle_count();
-    meets = check::check_vanes(file.mesh.positions, file.mesh.triangles, file.triangle_ids);
   } else {
     const StrandSet curves = io::read_strands(args.path);
     points = curves.positions;
@@ -427,6 +426,22 @@ int run_feather_check(const FeatherCheckArgs &args) {
     for (size_t c = 0; c < curves.strand_count(); ++c) first[size_t(curves.offsets[c])] = true;
     curve_count = curves.strand_count();
   }
+  // With the groom, the files are matched to its coat, and to each other, before anything is
+  // measured: a bad input fails at once.
+  const bool layered = vanes && groom.has_value() && !file.feather_ids.empty();
+  std::optional<CoatView> coat_view;
+  VaneFile before;
+  if (layered) {
+    coat_view = view_coat(*groom, args.groom, file, args.path);
+    if (!args.previous.empty()) {
+      before = read_vane_file(args.previous);
+      if (before.feather_ids != file.feather_ids || before.first_vertex != file.first_vertex ||
+          before.mesh.triangles != file.mesh.triangles)
+        throw InputError("--previous: " + args.previous + " holds other feathers than " + args.path +
+                         " (another groom, count or detail)");
+    }
+  }
+  if (vanes) meets = check::check_vanes(file.mesh.positions, file.mesh.triangles, file.triangle_ids);
   size_t below = 0;
   float deepest = 0.0f;
   const float margin = args.margin;
@@ -438,7 +453,6 @@ int run_feather_check(const FeatherCheckArgs &args) {
   }
 
   // With the groom: the order and the templates; with the previous frame: flips and popping.
-  const bool layered = vanes && groom.has_value() && !file.feather_ids.empty();
   check::LayerOrderReport order;
   check::ShapeDrift drift;
   check::OrderFlips flips;
@@ -448,7 +462,7 @@ int run_feather_check(const FeatherCheckArgs &args) {
   std::vector<std::pair<uint64_t, uint64_t>> broken_examples;
   int previous_at = 0;
   if (layered) {
-    const CoatView view = view_coat(*groom, args.groom, file, args.path);
+    const CoatView &view = *coat_view;
     broken_at_rest = int64_t(view.order.broken.size());
     overridden_at_rest = int64_t(view.order.overridden.size());
     broken_examples = broken_by_id(view.order, view.pipeline->coat().ids());
@@ -469,16 +483,17 @@ int run_feather_check(const FeatherCheckArgs &args) {
     drift = check::shape_drift(file.mesh.positions, template_positions, file.first_vertex, lengths, file.feather_ids);
     if (!args.previous.empty()) {
       previous_at = args.previous_frame ? *args.previous_frame : at - 1;
-      const VaneFile before = read_vane_file(args.previous);
-      if (before.feather_ids != file.feather_ids || before.first_vertex != file.first_vertex ||
-          before.mesh.triangles != file.mesh.triangles)
-        throw InputError("--previous: " + args.previous + " holds other feathers than " + args.path +
-                         " (another groom, count or detail)");
       const Mesh previous_skin = posed_skin(*groom, previous_at);
-      const MeshQuery previous_query(previous_skin);
-      const check::VaneOverlaps previous_overlaps = check::vane_overlaps(
-          before.mesh.positions, before.mesh.triangles, before.triangle_ids, previous_skin, previous_query);
-      flips = check::order_flips(previous_overlaps, overlaps);
+      // A frame against the same vertices on the same skin (a frame against itself) has the same
+      // overlaps: they are not measured twice.
+      if (previous_at == at && before.mesh.positions == file.mesh.positions) {
+        flips = check::order_flips(overlaps, overlaps);
+      } else {
+        const MeshQuery previous_query(previous_skin);
+        const check::VaneOverlaps previous_overlaps = check::vane_overlaps(
+            before.mesh.positions, before.mesh.triangles, before.triangle_ids, previous_skin, previous_query);
+        flips = check::order_flips(previous_overlaps, overlaps);
+      }
       const std::vector<float> widths =
           per_file_feather<float>(view, [&](size_t i) { return coat.shapes()[i].main.rachis_width; });
       pop = check::popping(before.mesh.positions, file.mesh.positions, file.first_vertex,

@@ -110,7 +110,12 @@ inline std::vector<std::string> shipped_grooms() {
   return grooms;
 }
 
-inline std::string sintel_dir() { return std::string(PLUME_SOURCE_DIR) + "/grooms/sintel"; }
+inline std::string sintel_dir() {
+  // Appended to a named string: GCC 12 warns (-Warray-bounds, falsely) on the temporary's concatenation.
+  std::string dir = PLUME_SOURCE_DIR;
+  dir += "/grooms/sintel";
+  return dir;
+}
 
 /// A small groom on the Sintel head (absolute paths), with `extra` YAML appended at the top level.
 inline std::string write_sintel_groom(const ScratchDir &scratch, const std::string &name, const std::string &extra,

@@ -351,11 +351,12 @@ struct GroomView {
 
 /// Loads the groom and finds the strands' roots among its own: `plume regrow` writes strand i of a
 /// run of N roots from root i of the groom's first N (scattering and roots files keep their order
-/// under the count), with its root id where the format keeps ids (.usda). The strands are regrown
-/// from those roots without the effects: a strand whose first point is not the regrown one's is
-/// not the groom's (another groom, another frame), and gets the closest surface point of its first
-/// point as a guessed root (for the zone check only). When every strand is the groom's and the
-/// groom has effects, the regrown strands are the ones the effects start from.
+/// under the count), with its root id where the format keeps ids (.usda). A strand whose first point
+/// is not the one growth gives its root at this frame is not the groom's (another groom, another
+/// frame), and gets the closest surface point of its first point as a guessed root (for the zone
+/// check only). Without effects only those first points are found (no strand is grown); with
+/// effects the strands are regrown without them, and when every strand is the groom's, they are the
+/// ones the effects start from.
 GroomView view_groom(const GroomDesc &groom, const StrandSet &strands, const Mesh &posed, const MeshQuery &posed_query,
                      int frame, const check::CheckOptions &options, const CheckArgs &args, bool need_guides) {
   GroomView view;
@@ -390,11 +391,12 @@ GroomView view_groom(const GroomDesc &groom, const StrandSet &strands, const Mes
   pipeline_options.roots = view.roots;
   pipeline_options.guides_cache = args.guides_cache;
   pipeline_options.simulation_start = std::min(groom_first_frame(groom), frame);
-  // Without effects only the regrown roots and guides are read: the separation pass moves neither.
-  pipeline_options.separate = !groom.effects.empty();
   view.pipeline = std::make_unique<Pipeline>(groom, pipeline_options);
   view.pipeline->check_frame_inputs(FrameRange{frame, frame, 1});
-  FrameResult before = view.pipeline->produce(frame, false);
+  // Without effects only the strands' first points and the guides are read: they are found without
+  // growing the strands.
+  FrameResult before =
+      groom.effects.empty() ? view.pipeline->produce_starts(frame) : view.pipeline->produce(frame, false);
   const float tolerance = check::root_tolerance_for(posed, options);
   for (size_t s = 0; s < count; ++s) {
     matched[s] = matched[s] && strands.points_in(s) > 0 && before.strands.points_in(s) > 0 &&

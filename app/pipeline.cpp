@@ -278,7 +278,7 @@ FrameResult Pipeline::produce(int frame, bool with_effects) {
   grow_options.width_root = groom_.width_root;
   grow_options.width_tip = groom_.width_tip;
   grow_options.with_widths = true;
-  grow_options.separate = groom_.interpolation.separate && options_.separate;
+  grow_options.separate = groom_.interpolation.separate;
   // Growth's skin bounds let the stack's closing skin pass skip the points it moved by less; both
   // search the skin through one grid built for this frame.
   std::vector<float> clearance;
@@ -288,6 +288,20 @@ FrameResult Pipeline::produce(int frame, bool with_effects) {
   if (with_effects)
     effects_->apply(result.mesh, query, result.guides, binding_->skin_margin, result.strands, clearance,
                     grid);
+  return result;
+}
+
+FrameResult Pipeline::produce_starts(int frame) {
+  FrameResult result;
+  result.frame = frame;
+  result.mesh = posed_mesh(frame);
+  result.guides = guides_at(frame, result.mesh);
+  const MeshQuery query(result.mesh);
+  const std::vector<Eigen::Vector3f> starts =
+      interp::strand_starts(*binding_, result.mesh, query, roots_, result.guides);
+  result.strands.resize_uniform(starts.size(), 1, false, StrandSet::Fill::unset);
+  result.strands.positions = starts;
+  result.strands.ids = roots_.ids;
   return result;
 }
 

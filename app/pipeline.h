@@ -64,9 +64,6 @@ struct PipelineOptions {
   /// When set, these roots (surface points of the emitter, with their ids) are grown instead of
   /// the groom's own, and strand_count is ignored: `plume check` regrows the roots of a strand file.
   std::optional<Roots> roots;
-  /// False: growth leaves out the groom's separation pass (interpolation.separate). `plume check`
-  /// regrows a groom without effects only to find the strands' roots, which the pass never moves.
-  bool separate = true;
 };
 
 /// One produced frame, emitter object space.
@@ -111,6 +108,9 @@ class Pipeline {
   /// The whole frame: posed mesh, guides, grown strands with effects applied and pushed out of the skin.
   /// `with_effects` false: the strands as growth leaves them, before the effects stack.
   FrameResult produce(int frame, bool with_effects = true);
+  /// The frame's posed mesh and guides, and each strand's first point alone (one-point strands, ids
+  /// = root ids), as produce() would start them, without growing them.
+  FrameResult produce_starts(int frame);
   /// Reads and checks, one file at a time, every per-frame input that producing the frames of
   /// `range` reads, so that bad input is found before the first output is written: with a guide
   /// cache, the pattern and every needed cache file (exists, parses, matches the guides); with an

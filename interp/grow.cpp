@@ -99,6 +99,7 @@ void resample(std::span<const Eigen::Vector3f> points, int count, Eigen::Vector3
 /// 60%, 54% and 50% of the transversal crossing pairs, at 1.35, 1.7 and 2.6 times the CPU time.
 constexpr float field_floor_fraction = 1.0f;
 
+/// `points_per_strand` 0: the guide roots' frames alone (for the strands' first points).
 FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const StrandSet &guides, int points_per_strand) {
   const size_t guide_count = guides.strand_count();
   FrameGuides frame;
@@ -109,6 +110,7 @@ FrameGuides prepare_guides(const Binding &binding, const Mesh &mesh, const Stran
     frame.frames[g] = f.basis;
     frame.origins[g] = f.origin;
   }
+  if (points_per_strand == 0) return frame;
   if (binding.settings.method == InterpolationSettings::Method::streamline) {
     std::vector<std::vector<int32_t>> members(size_t(binding.zone_count));
     for (size_t g = 0; g < guide_count; ++g) members[size_t(binding.guide_zones[g])].push_back(int32_t(g));
@@ -450,6 +452,52 @@ bool follow_guide(std::span<const Eigen::Vector3f> guide, const MeshQuery &query
   return true;
 }
 
+/// One of a root's guides at this frame: its weight, and the rotation carrying it from its root's
+/// surface frame to the root's, Q_root(t) * rest rotation * Q_guide(t)^T (a rigid motion of the skin
+/// gives back the rest rotation conjugated by that motion, so carried guides move rigidly).
+struct Slot {
+  int32_t guide;
+  float weight;
+  Eigen::Matrix3f rotation;
+};
+
+/// Root r's used slots at this frame, into r_slots (max_guides_per_root of them); returns their count.
+int frame_slots(const Binding &binding, const FrameGuides &frame, size_t r, const SurfaceFrame &root_frame,
+                Slot *r_slots) {
+  const int k = binding.k;
+  int used = 0;
+  for (int s = 0; s < k; ++s) {
+    const size_t slot = r * size_t(k) + size_t(s);
+    const int32_t g = binding.guide_ids[slot];
+    if (g < 0) break;
+    r_slots[used++] = {g, binding.weights[slot],
+                       root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
+                           frame.frames[size_t(g)].transpose()};
+  }
+  return used;
+}
+
+/// A strand's first point: the root on the skin, lifted along its normal by the height of the guides'
+/// own first points above their surface points (carried), when that lifted point is outside the skin
+/// (where the skin folds, as at a thin ear, the normal can lead behind another part of it). Only the
+/// height: a sideways part would move the root off its place on the skin. `band` starts at the root.
+Eigen::Vector3f lifted_root(const Binding &binding, const FrameGuides &frame, const StrandSet &guides,
+                            const Slot *slots, int used, const SurfaceFrame &root_frame, int triangle,
+                            SkinBand &band) {
+  const Eigen::Vector3f normal = root_frame.normal();
+  Eigen::Vector3f lift = Eigen::Vector3f::Zero();
+  for (int s = 0; s < used; ++s) {
+    const size_t g = size_t(slots[s].guide);
+    lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
+  }
+  const float height = std::max(lift.dot(normal), 0.0f);
+  if (height <= 1e-6f * binding.length_unit) return root_frame.origin;
+  const float distance = band.exact(root_frame.origin + height * normal);
+  if (distance >= 0.0f) return root_frame.origin + height * normal;
+  band.start(root_frame.origin, 0.0f, triangle);
+  return root_frame.origin;
+}
+
 /// Keeps a strand's fine polyline (its exact curve) and the length it was cut at.
 void keep_curve(std::span<const Eigen::Vector3f> fine, float length, std::vector<Eigen::Vector3f> &r_curve,
                 float &r_cut) {
@@ -457,6 +505,22 @@ void keep_curve(std::span<const Eigen::Vector3f> fine, float length, std::vector
   double arc = 0.0;
   for (size_t i = 1; i < fine.size(); ++i) arc += double((fine[i] - fine[i - 1]).norm());
   r_cut = float(std::min(double(length), arc));
+}
+
+/// Throws InputError when the roots or guides of a frame do not match the binding.
+void check_frame_inputs(const Binding &binding, const Roots &roots, const StrandSet &guides) {
+  if (roots.size() != binding.root_count())
+    throw InputError("grow: " + std::to_string(roots.size()) + " roots, but the binding has " +
+                     std::to_string(binding.root_count()));
+  if (guides.strand_count() != binding.guide_roots.size())
+    throw InputError("grow: " + std::to_string(guides.strand_count()) + " guides, but the binding has " +
+                     std::to_string(binding.guide_roots.size()));
+  for (size_t g = 0; g < guides.strand_count(); ++g)
+    if (guides.points_in(g) < 2)
+      throw InputError("guide " + std::to_string(g) + ": expected at least 2 points, got " +
+                       std::to_string(guides.points_in(g)));
+  for (const Eigen::Vector3f &p : guides.positions)
+    if (!p.allFinite()) throw InputError("grow: a guide point is not finite");
 }
 
 }  // namespace
@@ -488,22 +552,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           std::vector<float> *r_clearance, const SkinGrid *shared_skin_grid) {
   const int n = options.points_per_strand;
   if (n < 2) throw InputError("points_per_strand: expected at least 2, got " + std::to_string(n));
-  if (roots.size() != binding.root_count())
-    throw InputError("grow: " + std::to_string(roots.size()) + " roots, but the binding has " +
-                     std::to_string(binding.root_count()));
-  if (guides.strand_count() != binding.guide_roots.size())
-    throw InputError("grow: " + std::to_string(guides.strand_count()) + " guides, but the binding has " +
-                     std::to_string(binding.guide_roots.size()));
-  for (size_t g = 0; g < guides.strand_count(); ++g)
-    if (guides.points_in(g) < 2)
-      throw InputError("guide " + std::to_string(g) + ": expected at least 2 points, got " +
-                       std::to_string(guides.points_in(g)));
-  for (const Eigen::Vector3f &p : guides.positions)
-    if (!p.allFinite()) throw InputError("grow: a guide point is not finite");
+  check_frame_inputs(binding, roots, guides);
 
   const FrameGuides frame = prepare_guides(binding, mesh, guides, n);
   const InterpolationSettings &settings = binding.settings;
-  const int k = binding.k;
   const float margin = binding.skin_margin;
   const float scale = mesh_scale(mesh);
   std::unique_ptr<SkinGrid> own_skin_grid;
@@ -539,40 +591,10 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       SkinBand band(mesh, query, skin_grid, margin, counts);
       band.start(root_frame.origin, 0.0f, roots.points[size_t(r)].triangle);
 
-      // The slots' rotations: Q_root(t) * rest rotation * Q_guide(t)^T; a rigid motion of the skin
-      // gives back the rest rotation conjugated by that motion, so carried guides move rigidly.
-      struct Slot {
-        int32_t guide;
-        float weight;
-        Eigen::Matrix3f rotation;
-      };
       Slot slots[max_guides_per_root];
-      int used = 0;
-      for (int s = 0; s < k; ++s) {
-        const size_t slot = size_t(r) * size_t(k) + size_t(s);
-        const int32_t g = binding.guide_ids[slot];
-        if (g < 0) break;
-        slots[used++] = {g, binding.weights[slot],
-                         root_frame.basis * binding.rest_rotations[slot].toRotationMatrix() *
-                             frame.frames[size_t(g)].transpose()};
-      }
-
-      // The root: on the skin, lifted along its normal by the height of the guides' own first points
-      // above their surface points (carried), when that lifted point is outside the skin (where the
-      // skin folds, as at a thin ear, the normal can lead behind another part of it). Only the height:
-      // a sideways part would move the root off its place on the skin.
-      Eigen::Vector3f lift = Eigen::Vector3f::Zero();
-      for (int s = 0; s < used; ++s) {
-        const size_t g = size_t(slots[s].guide);
-        lift += slots[s].weight * (slots[s].rotation * (guides.points(g)[0] - frame.origins[g]));
-      }
-      const float height = std::max(lift.dot(normal), 0.0f);
-      Eigen::Vector3f root = root_frame.origin;
-      if (height > 1e-6f * binding.length_unit) {
-        const float distance = band.exact(root_frame.origin + height * normal);
-        if (distance >= 0.0f) root = root_frame.origin + height * normal;
-        else band.start(root_frame.origin, 0.0f, roots.points[size_t(r)].triangle);
-      }
+      const int used = frame_slots(binding, frame, size_t(r), root_frame, slots);
+      const Eigen::Vector3f root = lifted_root(binding, frame, guides, slots, used, root_frame,
+                                               roots.points[size_t(r)].triangle, band);
 
       // A root on a guide's root (the binding gave that guide all the weight, and the two surface
       // points coincide): the strand is the guide itself, where the guide stays out of the skin.
@@ -684,6 +706,45 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       if (!p.allFinite()) throw InternalError("grow: a separated strand point is not finite");
   }
   if (options.r_stats) *options.r_stats = stats;
+}
+
+std::vector<Eigen::Vector3f> strand_starts(const Binding &binding, const Mesh &mesh, const MeshQuery &query,
+                                           const Roots &roots, const StrandSet &guides,
+                                           const SkinGrid *shared_skin_grid) {
+  check_frame_inputs(binding, roots, guides);
+  const FrameGuides frame = prepare_guides(binding, mesh, guides, 0);
+  std::unique_ptr<SkinGrid> own_skin_grid;
+  if (!shared_skin_grid) own_skin_grid = std::make_unique<SkinGrid>(mesh, query);
+  const SkinGrid &skin_grid = shared_skin_grid ? *shared_skin_grid : *own_skin_grid;
+  std::vector<Eigen::Vector3f> starts(roots.size());
+  const int64_t root_count = int64_t(roots.size());
+  const bool streamline = binding.settings.method == InterpolationSettings::Method::streamline;
+#pragma omp parallel
+  {
+    GrowStats counts;
+    std::vector<CurvePiece> pieces;
+    FinePolyline fine;
+#pragma omp for schedule(dynamic, 64)
+    for (int64_t r = 0; r < root_count; ++r) {
+      const SurfaceFrame root_frame = surface_frame(mesh, roots.points[size_t(r)]);
+      SkinBand band(mesh, query, skin_grid, binding.skin_margin, counts);
+      band.start(root_frame.origin, 0.0f, roots.points[size_t(r)].triangle);
+      Slot slots[max_guides_per_root];
+      const int used = frame_slots(binding, frame, size_t(r), root_frame, slots);
+      starts[size_t(r)] = lifted_root(binding, frame, guides, slots, used, root_frame,
+                                      roots.points[size_t(r)].triangle, band);
+      // A streamline strand at a guide root is the guide's own curve where grow() follows it.
+      if (streamline && used == 1 && slots[0].weight == 1.0f &&
+          (frame.origins[size_t(slots[0].guide)] - root_frame.origin).norm() <= 1e-5f * binding.length_unit) {
+        Eigen::Vector3f ends[2];
+        float lower[2];
+        if (follow_guide(guides.points(size_t(slots[0].guide)), query, curve_merge_fraction * binding.length_unit,
+                         binding.skin_margin, 2, pieces, fine, ends, lower))
+          starts[size_t(r)] = ends[0];
+      }
+    }
+  }
+  return starts;
 }
 
 }  // namespace plume::interp

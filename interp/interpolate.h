@@ -167,4 +167,11 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
           const StrandSet &guides, const GrowOptions &options, StrandSet &r_strands,
           std::vector<float> *r_clearance = nullptr, const SkinGrid *skin_grid = nullptr);
 
+/// The first point of each root's strand at this frame, as grow() writes it (any method; the
+/// separation pass never moves it), without growing the strands: `plume check` finds a strand
+/// file's roots among the groom's with it. Same inputs and errors as grow().
+std::vector<Eigen::Vector3f> strand_starts(const Binding &binding, const Mesh &mesh, const MeshQuery &query,
+                                           const Roots &roots, const StrandSet &guides,
+                                           const SkinGrid *skin_grid = nullptr);
+
 }  // namespace plume::interp

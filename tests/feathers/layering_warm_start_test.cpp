@@ -3,7 +3,8 @@
 // bytes for 1 and 2 threads over a chain of frames; no vanes meeting and none below the skin on any
 // frame of a moving coat; at rest, a turn only falls back toward the template, by at most the
 // fall-back step; through a smooth motion (poses blended between two frames of the bird), far fewer
-// turns jump than with the stateless pass, and a feather's turn changes by little from step to step.
+// turns jump than with the stateless pass, and a feather's turn changes by little from step to step;
+// at rest, a yaw of the frame before (a feather turned aside) is kept, falling back by at most the step.
 #include <catch2/catch.hpp>
 #include <omp.h>
 
@@ -43,6 +44,7 @@ TEST_CASE("with the warm start, a chain of layered frames is the same to the bit
     CHECK(now[0].curves.curves.positions == now[1].curves.curves.positions);
     CHECK(now[0].layer_state.turns == now[1].layer_state.turns);
     CHECK(now[0].layer_state.scales == now[1].layer_state.scales);
+    CHECK(now[0].layer_state.yaws == now[1].layer_state.yaws);
     CHECK(now[0].layering.unordered == now[1].layering.unordered);
     before = std::move(now);
   }
@@ -155,4 +157,48 @@ TEST_CASE("through a smooth motion, the warm start's turns change by little from
   CHECK(jumps[1] * 500 <= changes);
   CHECK(travel[1] <= travel[0]);
   CHECK(double(small) >= 0.99 * double(changes));
+}
+
+TEST_CASE("at rest, a feather turned aside keeps its yaw of the frame before, falling back by at most the fall-back "
+          "step",
+          "[feathers]") {
+  const Bird bird(500);
+  const Mesh posed = bird.pose(20);
+  CoatFrame first = bird.grow(posed, nullptr);
+  const size_t n = bird.coat->size();
+  const FeatherRanges ranges = bird.coat->ranges();
+  // The frame before: the stateless pass's, each feather turned aside there a little farther aside
+  // (a tenth more yaw, the same turn), so that a yaw kept is told from one of the pass's own
+  // (0.1, 0.2, 0.3, 0.45 radians, each way).
+  size_t aside = 0, kept = 0, outside = 0;
+  for (float &yaw : first.layer_state.yaws)
+    if (yaw != 0.0f) {
+      yaw *= 1.1f;
+      ++aside;
+    }
+  const CoatFrame second = bird.grow(posed, &first);
+  for (size_t i = 0; i < n; ++i) {
+    const double before = double(first.layer_state.yaws[i]), after = double(second.layer_state.yaws[i]);
+    if (before == 0.0 || after == 0.0) continue;
+    double extent = 0.0;
+    const Eigen::Vector3f root = first.root_frames[i].origin;
+    for (int64_t v = ranges.first_vertex[i]; v < ranges.first_vertex[i + 1]; ++v)
+      extent = std::max(extent, double((first.vanes.positions[size_t(v)] - root).norm()));
+    const double step = double(Coat::kFallBackWidths) * double(bird.coat->shapes()[i].main.rachis_width) *
+                        double(first.skin_pass.scales[i]) / extent;
+    // Kept: the same side, no farther out, fallen by at most the step.
+    if (after * before > 0.0 && std::abs(after) <= std::abs(before) + 1e-7 &&
+        std::abs(after - before) <= step * (1.0 + 1e-4) + 1e-6)
+      ++kept;
+    else
+      ++outside;
+  }
+  INFO(aside << " feathers turned aside at the frame before, " << kept << " keep their yaw, " << outside
+             << " turned aside afresh");
+  CHECK(aside >= 3);
+  // Without the yaw carried, every feather turned aside would take one of the pass's own yaws.
+  CHECK(kept * 2 >= aside);
+  CHECK(check::check_vanes(second.vanes.positions, second.vanes.triangles, second.vanes.triangle_feathers)
+            .feather_pairs == 0);
+  CHECK(test::vane_points_below_skin(posed, second, 1e-5f * 40.0f) == 0);
 }

@@ -1391,6 +1391,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           searched = last_up >= max_angle && last_down <= 0.0;
           if (found) continue;
         }
+        // Turned aside at the frame before, and its turn about the axis, or one near it, no longer
+        // clears: its yaw is kept where it can be, before the search from no turn (which may lift it
+        // far).
+        if (previous_yaw != 0.0 && (from > 0.0 || conflict(0.0)) && keep_aside(previous_yaw, from, fall, tolerance))
+          continue;
       }
 
       // The full search: the smallest turn that clears, by steps from no turn, then bisection. Per step

@@ -1298,15 +1298,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // The warm start (docs/feathers.md, "The layering pass's warm start"): from the turn and size
       // the feather had at the frame before.
       double from = -1.0;     // the turn at the frame before, with a warm start
-      // The yaw at the frame before (0: not turned aside), and the warm start's fall-back step and
-      // bisection tolerance (radians).
-      double previous_yaw = 0.0, warm_fall = 0.0, warm_tolerance = 0.0;
-      // Turned aside where a turn about the axis is not enough: a feather turned aside at the frame
-      // before keeps its yaw where it can (keep_aside), else the yaws nearest it are tried first.
-      auto go_aside = [&]() {
-        return (previous_yaw != 0.0 && keep_aside(previous_yaw, from, warm_fall, warm_tolerance)) ||
-               turn_aside(previous_yaw);
-      };
+      // The yaw at the frame before (0: not turned aside): turning aside afresh tries the yaws nearest
+      // it first.
+      double previous_yaw = 0.0;
       bool searched = false;  // whether the warm start tried every step of the range and none cleared
       if (previous) {
         // How far the turn may fall back per frame: its vanes' farthest point by fall_back rachis widths.
@@ -1354,8 +1348,6 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           continue;
         }
         previous_yaw = previous->yaws.empty() ? 0.0 : double(previous->yaws[i]);
-        warm_fall = fall;
-        warm_tolerance = tolerance;
         from = std::clamp(double(previous->turns[i]), 0.0, max_angle);
         if (from > 0.0) {
           if (!conflict(from)) {
@@ -1455,7 +1447,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (at == max_angle || best <= 1) break;
         }
         if (stay && above == from) {
-          if (!go_aside()) end_at(from);
+          if (!turn_aside(previous_yaw)) end_at(from);
           continue;
         }
         if (above > 0.0) {
@@ -1465,13 +1457,13 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             (worse(mid, best) ? below : above) = mid;
           }
         }
-        if (above >= 0.0 && go_aside()) continue;
+        if (above >= 0.0 && turn_aside(previous_yaw)) continue;
       }
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): turned aside where that clears it,
         // else, unturned, it is shrunk toward its root until it clears (the largest such size), as
         // the skin pass does.
-        if (go_aside()) continue;
+        if (turn_aside(previous_yaw)) continue;
         shrink_to(largest_clear_size(1.0));
         continue;
       }

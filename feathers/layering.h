@@ -143,12 +143,12 @@ struct LayeringStats {
 /// that no longer clears moves to the nearest that does within 3 steps of the search (0.06 radians)
 /// either way; a feather no turn takes out from under the lower ones stays at its turn while that
 /// keeps it clear of their vanes and the skin, unless a step of the search leaves it under fewer of
-/// them; a feather turned aside at the frame before that must be turned aside again (no turn about
-/// its axis takes it out from under the lower ones) stays at its yaw and turn while they clear, its
-/// yaw falling back toward none by at most options.fall_back rachis widths at its farthest point
-/// (its turn instead where the yaw cannot fall), and where they no longer clear takes the nearest
-/// turn that does at that yaw within 3 steps either way, else is turned aside afresh, the yaws
-/// nearest its yaw of the frame before first; a shrunk feather grows back unturned by at most
+/// them; a feather turned aside at the frame before drops its yaw where its turn about the
+/// unturned axis, or one within 3 steps, clears; else it stays at its yaw and turn while they clear,
+/// its yaw falling back toward none by at most options.fall_back rachis widths at its farthest point
+/// (its turn instead where the yaw cannot fall), or takes the nearest turn that clears at that yaw
+/// within 3 steps either way; else the search, and turning aside afresh tries the yaws nearest its
+/// yaw of the frame before first; a shrunk feather grows back unturned by at most
 /// options.fall_back rachis widths per frame, and where its size no longer clears, takes the nearest
 /// size below that does; otherwise, the search above. Every answer passes the
 /// same tests as the search's, so the promise (no vane within the offset of a lower one, none below

@@ -144,6 +144,7 @@ io::FeatherLifts FeatherPipeline::lifts_record(int frame, const feathers::CoatSt
   lifts.layered = !state.layers.empty();
   lifts.layer_turns = state.layers.turns;
   lifts.layer_scales = state.layers.scales;
+  lifts.layer_yaws = state.layers.yaws;
   return lifts;
 }
 
@@ -164,6 +165,10 @@ std::optional<feathers::CoatState> FeatherPipeline::read_cached_state(int frame)
     throw InputError(FileLoc{path}, "layers: the file holds the skin pass's state only, and this groom keeps its "
                                     "feathers in layers (a cache written before the layering pass carried its "
                                     "state, or of the groom without layers? Write it again with plume simulate)");
+  if (layered && lifts.layer_yaws.empty())
+    throw InputError(FileLoc{path}, "layer_yaw: the file holds no yaw of the feathers turned aside (version 2, "
+                                    "written before the layering pass carried it; write it again with plume "
+                                    "simulate)");
   std::unordered_map<uint64_t, size_t> by_id;
   by_id.reserve(lifts.ids.size());
   for (size_t k = 0; k < lifts.ids.size(); ++k) by_id.emplace(lifts.ids[k], k);
@@ -176,6 +181,7 @@ std::optional<feathers::CoatState> FeatherPipeline::read_cached_state(int frame)
   if (layered) {
     state.layers.turns.resize(ids.size());
     state.layers.scales.resize(ids.size());
+    state.layers.yaws.resize(ids.size());
   }
   for (size_t i = 0; i < ids.size(); ++i) {
     const auto it = by_id.find(ids[i]);
@@ -192,6 +198,7 @@ std::optional<feathers::CoatState> FeatherPipeline::read_cached_state(int frame)
     if (layered) {
       state.layers.turns[i] = lifts.layer_turns[k];
       state.layers.scales[i] = lifts.layer_scales[k];
+      state.layers.yaws[i] = lifts.layer_yaws[k];
     }
   }
   return state;

@@ -91,11 +91,11 @@ int main(int argc, char **argv) {
             const double jump = bench::skin_frame_jump(a, b, ranges, i, coat.shapes()[i].main.rachis_width);
             if (jump > 10.0 && std::getenv("PLUME_BENCH_TRACE"))
               std::printf("  %s frame %d feather %zu (id %llu): %.2f widths; skin lift %.4f -> %.4f, scale %.3f -> "
-                          "%.3f; layering turn %.4f -> %.4f, scale %.3f -> %.3f\n",
+                          "%.3f; layering turn %.4f -> %.4f, scale %.3f -> %.3f, yaw %.4f -> %.4f\n",
                           g.run ? "warm" : "stateless", g.frame, i, (unsigned long long)coat.ids()[i], jump,
                           a.skin_pass.lifts[i], b.skin_pass.lifts[i], a.skin_pass.scales[i], b.skin_pass.scales[i],
                           a.layer_state.turns[i], b.layer_state.turns[i], a.layer_state.scales[i],
-                          b.layer_state.scales[i]);
+                          b.layer_state.scales[i], a.layer_state.yaws[i], b.layer_state.yaws[i]);
             f.largest = std::max(f.largest, jump);
             if (!jumped) f.largest_other = std::max(f.largest_other, jump);
           }

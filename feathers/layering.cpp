@@ -559,12 +559,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   if (previous && (previous->turns.size() != n || previous->scales.size() != n))
     throw InputError("feathers: the layering pass's state of the frame before holds " +
                      std::to_string(previous->turns.size()) + " feathers, expected the coat's " + std::to_string(n));
+  if (previous && !previous->yaws.empty() && previous->yaws.size() != n)
+    throw InputError("feathers: the layering pass's state of the frame before holds " +
+                     std::to_string(previous->yaws.size()) + " yaws, expected the coat's " + std::to_string(n) +
+                     " feathers");
   if (previous && warm.rachis_widths.size() != n)
     throw InternalError("lift_layers: " + std::to_string(warm.rachis_widths.size()) + " rachis widths for " +
                         std::to_string(n) + " feathers");
   if (r_state) {
     r_state->turns.assign(n, 0.0f);
     r_state->scales.assign(n, 1.0f);
+    r_state->yaws.assign(n, 0.0f);
   }
   LayeringStats stats;
   if (n == 0) return stats;
@@ -1162,18 +1167,40 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             return false;
         return true;
       };
-      auto turn_aside = [&]() {
+      // The move of a feather turned aside: the yaw about the skin normal, then the turn about the axis
+      // turned with it.
+      auto aside_move = [&](double yaw, double angle) {
+        const Eigen::Matrix3d aside = Eigen::AngleAxisd(yaw, normal).toRotationMatrix();
+        return Eigen::Matrix3d(Eigen::AngleAxisd(angle, aside * axis).toRotationMatrix() * aside);
+      };
+      auto end_aside = [&](double yaw, double angle) {
+        const Eigen::Matrix3f m = aside_move(yaw, angle).cast<float>();
+        move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
+        r_frame.lifts[i] += float(angle);
+        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+        ++lifted;
+        ++aside_count;
+        largest = std::max(largest, float(angle));
+        if (r_state) {
+          r_state->turns[i] = float(angle);
+          r_state->yaws[i] = float(yaw);
+        }
+        if (counted_under) --left_under;
+        unordered[i] = 0;
+      };
+      // The yaws tried, nearest `preferred` first (the yaw of the frame before; 0: the smallest first,
+      // the positive one of a pair first).
+      auto turn_aside = [&](double preferred) {
         if (lower.empty() || outward.empty()) return false;
-        for (const double yaw : kAsideYaws) {
-          const Eigen::Matrix3d aside = Eigen::AngleAxisd(yaw, normal).toRotationMatrix();
-          const Vec turned_axis = aside * axis;
-          const auto move = [&](double angle) {
-            return Eigen::Matrix3d(Eigen::AngleAxisd(angle, turned_axis).toRotationMatrix() * aside);
-          };
+        std::array<double, std::size(kAsideYaws)> yaws;
+        std::copy(std::begin(kAsideYaws), std::end(kAsideYaws), yaws.begin());
+        std::stable_sort(yaws.begin(), yaws.end(),
+                         [&](double a, double b) { return std::abs(a - preferred) < std::abs(b - preferred); });
+        for (const double yaw : yaws) {
           double failing = -1.0, clearing = -1.0;
           for (double a = 0.0; a < max_angle + kAsideStep; a += kAsideStep) {
             const double at = std::min(a, max_angle);
-            if (clear_moved(move(at))) {
+            if (clear_moved(aside_move(yaw, at))) {
               clearing = at;
               break;
             }
@@ -1182,19 +1209,88 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (clearing < 0.0) continue;
           while (failing >= 0.0 && clearing - failing > kAsideTolerance) {
             const double mid = 0.5 * (failing + clearing);
-            (clear_moved(move(mid)) ? clearing : failing) = mid;
+            (clear_moved(aside_move(yaw, mid)) ? clearing : failing) = mid;
           }
-          const Eigen::Matrix3f m = move(clearing).cast<float>();
-          move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
-          r_frame.lifts[i] += float(clearing);
-          mine = feather_vanes(r_frame, ranges, i, options.root_disc);
-          ++lifted;
-          ++aside_count;
-          largest = std::max(largest, float(clearing));
-          if (r_state) r_state->turns[i] = float(clearing);
+          end_aside(yaw, clearing);
+          return true;
+        }
+        return false;
+      };
+
+      // A feather turned aside at the frame before, at `yaw` and `angle` (docs/feathers.md, "The
+      // layering pass's warm start"): where that still clears, its yaw falls back toward none by at
+      // most `fall` (the smallest yaw in that range that clears, by bisection to `tolerance`), or,
+      // where the yaw cannot fall at all, its turn by at most `fall` (the smallest that clears); where
+      // it no longer clears, the nearest turn that does at that yaw, by steps either way (one up,
+      // then one down, up to kLocalSteps of them). Found: the feather ends there, and true; none:
+      // false, nothing changed. A yaw fallen to 0 ends as a turn about the axis.
+      auto keep_aside = [&](double yaw, double angle, double fall, double tolerance) {
+        if (lower.empty() || outward.empty()) return false;
+        const auto clear_at = [&](double y, double a) { return clear_moved(aside_move(y, a)); };
+        const auto end_kept = [&](double y, double a) {
+          if (y != 0.0) {
+            end_aside(y, a);
+            return;
+          }
+          if (a > 0.0) turn_by(a);
           if (counted_under) --left_under;
           unordered[i] = 0;
+        };
+        if (clear_at(yaw, angle)) {
+          const double target = std::abs(yaw) <= fall ? 0.0 : yaw - std::copysign(fall, yaw);
+          if (clear_at(target, angle)) {
+            end_kept(target, angle);
+            return true;
+          }
+          double failing = target, clearing = yaw;
+          while (std::abs(clearing - failing) > tolerance) {
+            const double mid = 0.5 * (failing + clearing);
+            (clear_at(mid, angle) ? clearing : failing) = mid;
+          }
+          if (clearing != yaw || angle == 0.0) {
+            end_kept(clearing, angle);
+            return true;
+          }
+          // The yaw cannot fall: the turn falls instead, among the turns that clear.
+          double below = std::max(angle - fall, 0.0), above = angle;
+          if (clear_at(yaw, below)) {
+            above = below;
+          } else {
+            while (above - below > tolerance) {
+              const double mid = 0.5 * (below + above);
+              (clear_at(yaw, mid) ? above : below) = mid;
+            }
+          }
+          end_kept(yaw, above);
           return true;
+        }
+        double last_up = angle, last_down = angle;
+        for (int s = 1; s <= kLocalSteps && (last_up < max_angle || last_down > 0.0); ++s) {
+          const double up = std::min(angle + s * kStep, max_angle), down = std::max(angle - s * kStep, 0.0);
+          if (up > last_up) {
+            if (clear_at(yaw, up)) {
+              double below = last_up, above = up;
+              while (above - below > tolerance) {
+                const double mid = 0.5 * (below + above);
+                (clear_at(yaw, mid) ? above : below) = mid;
+              }
+              end_kept(yaw, above);
+              return true;
+            }
+            last_up = up;
+          }
+          if (down < last_down) {
+            if (clear_at(yaw, down)) {
+              double below = down, above = last_down;
+              while (above - below > tolerance) {
+                const double mid = 0.5 * (below + above);
+                (clear_at(yaw, mid) ? below : above) = mid;
+              }
+              end_kept(yaw, below);
+              return true;
+            }
+            last_down = down;
+          }
         }
         return false;
       };
@@ -1202,6 +1298,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // The warm start (docs/feathers.md, "The layering pass's warm start"): from the turn and size
       // the feather had at the frame before.
       double from = -1.0;     // the turn at the frame before, with a warm start
+      // The yaw at the frame before (0: not turned aside): turning aside afresh tries the yaws nearest
+      // it first.
+      double previous_yaw = 0.0;
       bool searched = false;  // whether the warm start tried every step of the range and none cleared
       if (previous) {
         // How far the turn may fall back per frame: its vanes' farthest point by fall_back rachis widths.
@@ -1248,6 +1347,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           shrink_to(size);
           continue;
         }
+        previous_yaw = previous->yaws.empty() ? 0.0 : double(previous->yaws[i]);
         from = std::clamp(double(previous->turns[i]), 0.0, max_angle);
         if (from > 0.0) {
           if (!conflict(from)) {
@@ -1283,6 +1383,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           searched = last_up >= max_angle && last_down <= 0.0;
           if (found) continue;
         }
+        // Turned aside at the frame before, and its turn about the axis, or one near it, no longer
+        // clears: its yaw is kept where it can be, before the search from no turn (which may lift it
+        // far).
+        if (previous_yaw != 0.0 && (from > 0.0 || conflict(0.0)) && keep_aside(previous_yaw, from, fall, tolerance))
+          continue;
       }
 
       // The full search: the smallest turn that clears, by steps from no turn, then bisection. Per step
@@ -1342,7 +1447,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (at == max_angle || best <= 1) break;
         }
         if (stay && above == from) {
-          if (!turn_aside()) end_at(from);
+          if (!turn_aside(previous_yaw)) end_at(from);
           continue;
         }
         if (above > 0.0) {
@@ -1352,13 +1457,13 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             (worse(mid, best) ? below : above) = mid;
           }
         }
-        if (above >= 0.0 && turn_aside()) continue;
+        if (above >= 0.0 && turn_aside(previous_yaw)) continue;
       }
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): turned aside where that clears it,
         // else, unturned, it is shrunk toward its root until it clears (the largest such size), as
         // the skin pass does.
-        if (turn_aside()) continue;
+        if (turn_aside(previous_yaw)) continue;
         shrink_to(largest_clear_size(1.0));
         continue;
       }

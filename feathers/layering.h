@@ -89,11 +89,14 @@ struct LayeringOptions {
 };
 
 /// What the layering pass decided at one frame, per feather in coat order: its turn on top of the skin
-/// pass's (radians, >= 0) and its size (1, or less where the pass shrank it). The next frame's pass
-/// starts from it (lift_layers' warm start).
+/// pass's (radians, >= 0), its size (1, or less where the pass shrank it) and its yaw (radians, signed,
+/// about the skin normal through its root; 0 unless turned aside: then the turn is about the axis
+/// turned by the yaw). The next frame's pass starts from it (lift_layers' warm start). `yaws` may be
+/// empty in a state given as the frame before: no feather turned aside.
 struct LayeringState {
   std::vector<float> turns;
   std::vector<float> scales;
+  std::vector<float> yaws;
   bool empty() const { return turns.empty(); }
 };
 
@@ -140,13 +143,18 @@ struct LayeringStats {
 /// that no longer clears moves to the nearest that does within 3 steps of the search (0.06 radians)
 /// either way; a feather no turn takes out from under the lower ones stays at its turn while that
 /// keeps it clear of their vanes and the skin, unless a step of the search leaves it under fewer of
-/// them; a shrunk feather grows back unturned by at most
+/// them; a feather turned aside at the frame before drops its yaw where its turn about the
+/// unturned axis, or one within 3 steps, clears; else it stays at its yaw and turn while they clear,
+/// its yaw falling back toward none by at most options.fall_back rachis widths at its farthest point
+/// (its turn instead where the yaw cannot fall), or takes the nearest turn that clears at that yaw
+/// within 3 steps either way; else the search, and turning aside afresh tries the yaws nearest its
+/// yaw of the frame before first; a shrunk feather grows back unturned by at most
 /// options.fall_back rachis widths per frame, and where its size no longer clears, takes the nearest
 /// size below that does; otherwise, the search above. Every answer passes the
 /// same tests as the search's, so the promise (no vane within the offset of a lower one, none below
 /// the skin) is the same.
 /// `r_state` (may be null): the state to carry to the next frame.
-/// Throws InputError when `warm.previous` does not hold one entry per feather.
+/// Throws InputError when `warm.previous` does not hold one entry per feather (yaws: one, or none).
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
                           const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid = nullptr,
                           const LayeringWarmStart &warm = {}, LayeringState *r_state = nullptr);

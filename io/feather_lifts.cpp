@@ -15,7 +15,8 @@ namespace plume::io {
 
 namespace {
 
-constexpr const char *kHeader = "plume feather lifts 2";
+constexpr const char *kHeader = "plume feather lifts 3";
+constexpr const char *kHeaderVersion2 = "plume feather lifts 2";
 constexpr const char *kHeaderVersion1 = "plume feather lifts 1";
 constexpr float kPi = 3.14159265358979f;
 
@@ -55,14 +56,15 @@ std::string feather_lifts_pattern(const std::string &guide_cache_pattern) {
 void write_feather_lifts(const std::string &path, const FeatherLifts &lifts) {
   std::string text = std::string(kHeader) + "\nframe " + std::to_string(lifts.frame) + "\nfeathers " +
                      std::to_string(lifts.ids.size()) + "\nlayers " + (lifts.layered ? "1" : "0") +
-                     (lifts.layered ? "\n# id lift scale layer_turn layer_scale (radians; sizes, 1 when not shrunk)\n"
+                     (lifts.layered ? "\n# id lift scale layer_turn layer_scale layer_yaw (radians; sizes, 1 when not "
+                                      "shrunk; yaw 0 unless turned aside)\n"
                                     : "\n# id lift scale (radians; size, 1 when not shrunk)\n");
   char line[160];
   for (size_t i = 0; i < lifts.ids.size(); ++i) {
     if (lifts.layered)
-      std::snprintf(line, sizeof line, "%llu %.9g %.9g %.9g %.9g\n", (unsigned long long)lifts.ids[i],
+      std::snprintf(line, sizeof line, "%llu %.9g %.9g %.9g %.9g %.9g\n", (unsigned long long)lifts.ids[i],
                     double(lifts.lifts[i]), double(lifts.scales[i]), double(lifts.layer_turns[i]),
-                    double(lifts.layer_scales[i]));
+                    double(lifts.layer_scales[i]), lifts.layer_yaws.empty() ? 0.0 : double(lifts.layer_yaws[i]));
     else
       std::snprintf(line, sizeof line, "%llu %.9g %.9g\n", (unsigned long long)lifts.ids[i], double(lifts.lifts[i]),
                     double(lifts.scales[i]));
@@ -86,9 +88,9 @@ FeatherLifts read_feather_lifts(const std::string &path) {
   if (!next_content(cursor, rest))
     throw InputError(FileLoc{path}, "feather lifts: expected \"" + std::string(kHeader) + "\", got an empty file");
   while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
-  if (rest != kHeader && rest != kHeaderVersion1)
-    cursor.fail("header: expected \"" + std::string(kHeader) + "\" (or version 1), got " + detail::quoted(rest));
-  const bool version1 = rest == kHeaderVersion1;
+  if (rest != kHeader && rest != kHeaderVersion2 && rest != kHeaderVersion1)
+    cursor.fail("header: expected \"" + std::string(kHeader) + "\" (or version 2 or 1), got " + detail::quoted(rest));
+  const bool version1 = rest == kHeaderVersion1, version2 = rest == kHeaderVersion2;
   FeatherLifts lifts;
   const long long frame = keyword_value(cursor, "frame");
   if (frame < -1000000000LL || frame > 1000000000LL) cursor.fail("frame: expected a frame number, got " + std::to_string(frame));
@@ -101,7 +103,8 @@ FeatherLifts read_feather_lifts(const std::string &path) {
     if (layers != 0 && layers != 1) cursor.fail("layers: expected 0 or 1, got " + std::to_string(layers));
     lifts.layered = layers == 1;
   }
-  const int columns = lifts.layered ? 5 : 3;
+  const bool yawed = lifts.layered && !version2;
+  const int columns = lifts.layered ? (yawed ? 6 : 5) : 3;
   // No more lines than the text can hold (a line takes at least 6 bytes): a wrong count allocates nothing.
   const size_t expected = std::min(size_t(count), text.size() / 6);
   lifts.ids.reserve(expected);
@@ -110,6 +113,7 @@ FeatherLifts read_feather_lifts(const std::string &path) {
   if (lifts.layered) {
     lifts.layer_turns.reserve(expected);
     lifts.layer_scales.reserve(expected);
+    if (yawed) lifts.layer_yaws.reserve(expected);
   }
   std::unordered_set<uint64_t> seen;
   while (next_content(cursor, rest)) {
@@ -141,10 +145,18 @@ FeatherLifts read_feather_lifts(const std::string &path) {
       lifts.layer_turns.push_back(turn);
       lifts.layer_scales.push_back(size);
     }
+    if (yawed) {
+      const std::string_view yaw_token = detail::LineCursor::take_token(rest);
+      const float yaw = cursor.to_float(yaw_token, what + ": layer_yaw");
+      if (!(yaw >= -kPi - 1e-5f && yaw <= kPi + 1e-5f))
+        cursor.fail(yaw_token, what + ": layer_yaw: expected radians in [-pi, pi], got " + detail::quoted(yaw_token));
+      lifts.layer_yaws.push_back(yaw);
+    }
     if (const std::string_view extra = detail::LineCursor::take_token(rest); !extra.empty())
       cursor.fail(extra, what + ": expected " + std::to_string(columns) +
-                             (lifts.layered ? " values (id lift scale layer_turn layer_scale)"
-                                            : " values (id lift scale)") +
+                             (!lifts.layered ? " values (id lift scale)"
+                              : yawed       ? " values (id lift scale layer_turn layer_scale layer_yaw)"
+                                            : " values (id lift scale layer_turn layer_scale)") +
                              ", got more: " + detail::quoted(extra));
     lifts.ids.push_back(uint64_t(id));
     lifts.lifts.push_back(lift);

@@ -12,7 +12,8 @@ namespace plume::io {
 
 /// Per feather, by its stable id: the turn about its root the skin pass gave it (radians, in
 /// [0, pi]) and its size (in [0, 1]); with `layered`, also the layering pass's turn on top of it
-/// (radians, in [0, pi]) and its size (in [0, 1]).
+/// (radians, in [0, pi]), its size (in [0, 1]) and its yaw (radians, in [-pi, pi], 0 unless turned
+/// aside; empty when read from a file of version 2, which does not hold it).
 struct FeatherLifts {
   int frame = 0;
   std::vector<uint64_t> ids;
@@ -21,6 +22,7 @@ struct FeatherLifts {
   bool layered = false;
   std::vector<float> layer_turns;  // empty unless layered
   std::vector<float> layer_scales;
+  std::vector<float> layer_yaws;
 };
 
 /// The file pattern beside a guide cache pattern: its name without the extension, then `.lifts`
@@ -28,16 +30,17 @@ struct FeatherLifts {
 std::string feather_lifts_pattern(const std::string &guide_cache_pattern);
 
 /// Writes `lifts` atomically (io/atomic_file.h), every float exactly (9 significant digits):
-///   plume feather lifts 2
+///   plume feather lifts 3
 ///   frame 12
 ///   feathers 4980
 ///   layers 1                 (0: the three first columns only)
-///   <id> <lift> <scale> <layer turn> <layer scale>      (one line per feather)
+///   <id> <lift> <scale> <layer turn> <layer scale> <layer yaw>      (one line per feather)
 /// Throws InputError naming the file when it cannot be written.
 void write_feather_lifts(const std::string &path, const FeatherLifts &lifts);
 
-/// Reads a file write_feather_lifts() wrote, or one of version 1 (no `layers` line, the three first
-/// columns: `layered` false). Throws InputError with file:line and the field for a missing file, a bad
+/// Reads a file write_feather_lifts() wrote, one of version 2 (with `layers 1`, five columns, no yaw:
+/// `layer_yaws` empty) or one of version 1 (no `layers` line, the three first columns: `layered`
+/// false). Throws InputError with file:line and the field for a missing file, a bad
 /// header, frame, count or layers line, a malformed, non-finite or out-of-range value, a repeated id,
 /// or a count of lines other than the one announced.
 FeatherLifts read_feather_lifts(const std::string &path);

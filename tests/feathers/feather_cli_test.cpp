@@ -3,6 +3,8 @@
 // line, vane meshes are described and checked, and the bird's files are what make_bird writes.
 #include <catch2/catch.hpp>
 
+#include <sstream>
+
 #include "cli/cli_fixtures.h"
 
 using namespace plume::cli_test;
@@ -106,7 +108,7 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
   for (int frame = 1; frame <= 5; ++frame) {
     const std::string name = "stems.000" + std::to_string(frame) + ".lifts";
     const std::string one = read_text(scratch / ("cache1/" + name));
-    CHECK(one.rfind("plume feather lifts 2\nframe " + std::to_string(frame) + "\nfeathers ", 0) == 0);
+    CHECK(one.rfind("plume feather lifts 3\nframe " + std::to_string(frame) + "\nfeathers ", 0) == 0);
     CHECK(one.find("\nlayers 0\n") != std::string::npos);
     CHECK(one == read_text(scratch / ("cache2/" + name)));
   }
@@ -150,9 +152,11 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
   const size_t body = valid.find("\n", valid.find("# id")) + 1;
   const size_t second_line = valid.find("\n", body) + 1;
   for (const auto &[text, expected] : std::vector<std::pair<std::string, std::string>>{
-           {"plume feather lifts 3\n", "stems.0003.lifts:1: header"},
+           {"plume feather lifts 4\n", "stems.0003.lifts:1: header"},
            {"plume feather lifts 2\nframe 3\nfeathers 0\nlayers 2\n", "stems.0003.lifts:4: layers: expected 0 or 1"},
            {"plume feather lifts 2\nframe 3\nfeathers 1\nlayers 1\n7 0 1\n", "layer_turn"},
+           {"plume feather lifts 3\nframe 3\nfeathers 1\nlayers 1\n7 0 1 0 1\n", "layer_yaw"},
+           {"plume feather lifts 3\nframe 3\nfeathers 1\nlayers 1\n7 0 1 0 1 4\n", "layer_yaw: expected radians"},
            {"plume feather lifts 1\nframe 2\nfeathers 0\n", "stems.0003.lifts:2: frame: expected 3"},
            {valid.substr(0, body) + "7 nan 1\n" + valid.substr(second_line), ":6:"},
            {valid.substr(0, body) + "7 0.5 2\n" + valid.substr(second_line), "scale"},
@@ -238,6 +242,19 @@ TEST_CASE("with layers, the layering pass's state is carried like the skin pass'
     CHECK(one.find("\nlayers 1\n") != std::string::npos);
     CHECK(one == read_text(scratch / ("cache2/" + name)));
   }
+  // Frame 4 regrown alone reads frame 3's state: some feathers there are turned aside (a yaw, the last
+  // column), so the carried yaw is what makes it the sequential frame.
+  int yawed = 0;
+  {
+    std::istringstream lines(read_text(scratch / "cache1/stems.0003.lifts"));
+    std::string line;
+    while (std::getline(lines, line)) {
+      std::istringstream values(line);
+      double id = 0, lift = 0, scale = 0, turn = 0, size = 0, yaw = 0;
+      if (values >> id >> lift >> scale >> turn >> size >> yaw && yaw != 0.0) ++yawed;
+    }
+  }
+  CHECK(yawed > 0);
   const std::string cache = " --guides-cache " + quoted(scratch / "cache1/stems.####.hair");
   regrow("1-4", "cached_sequence", cache);
   for (int frame = 1; frame <= 4; ++frame) {
@@ -271,6 +288,28 @@ TEST_CASE("with layers, the layering pass's state is carried like the skin pass'
     CHECK(run.err.find("layers") != std::string::npos);
     CHECK(!fs::exists(scratch / "bad.0004.usda"));
   }
+  // A layered file of version 2 (no yaw column) exits 2 naming the file and the yaw.
+  std::string version2;
+  {
+    std::istringstream lines(read_text(scratch / "cache2/stems.0003.lifts"));
+    std::string line;
+    bool body = false;
+    while (std::getline(lines, line)) {
+      if (line.rfind("plume feather lifts", 0) == 0) line = "plume feather lifts 2";
+      if (body) line.erase(line.rfind(' '));  // the yaw
+      body = body || line.rfind("# id", 0) == 0;
+      version2 += line + "\n";
+    }
+  }
+  std::ofstream(lifts, std::ios::binary) << version2;
+  const RunResult old = run_plume("regrow " + quoted(groom) + " --frames 4 --no-preview --out " +
+                                      quoted(scratch / "old.####.usda") + cache,
+                                  scratch);
+  INFO(old.err);
+  CHECK(old.exit_code == 2);
+  CHECK(old.err.find("stems.0003.lifts") != std::string::npos);
+  CHECK(old.err.find("layer_yaw") != std::string::npos);
+  CHECK(!fs::exists(scratch / "old.0004.usda"));
 }
 
 TEST_CASE("a feather frame passes plume check, curves and vane meshes", "[feathers][cli]") {

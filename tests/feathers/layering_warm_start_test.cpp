@@ -3,7 +3,8 @@
 // bytes for 1 and 2 threads over a chain of frames; no vanes meeting and none below the skin on any
 // frame of a moving coat; at rest, a turn only falls back toward the template, by at most the
 // fall-back step; through a smooth motion (poses blended between two frames of the bird), far fewer
-// turns jump than with the stateless pass, and a feather's turn changes by little from step to step.
+// turns jump than with the stateless pass, and a feather's turn changes by little from step to step;
+// at rest, a feather turned aside at the frame before keeps its yaw, falling back by at most the step.
 #include <catch2/catch.hpp>
 #include <omp.h>
 
@@ -43,6 +44,7 @@ TEST_CASE("with the warm start, a chain of layered frames is the same to the bit
     CHECK(now[0].curves.curves.positions == now[1].curves.curves.positions);
     CHECK(now[0].layer_state.turns == now[1].layer_state.turns);
     CHECK(now[0].layer_state.scales == now[1].layer_state.scales);
+    CHECK(now[0].layer_state.yaws == now[1].layer_state.yaws);
     CHECK(now[0].layering.unordered == now[1].layering.unordered);
     before = std::move(now);
   }
@@ -71,20 +73,30 @@ TEST_CASE("with the warm start, no two feathers' vanes meet and none goes below 
   CHECK(lifted > 15 * 100);  // the pass has work on every frame
 }
 
-TEST_CASE("at rest, the warm start only lowers a turn toward the template, by at most the fall-back step", "[feathers]") {
+TEST_CASE("at rest, the warm start only lowers a turn toward the template, and keeps a yaw, by at most the fall-back "
+          "step",
+          "[feathers]") {
   const Bird bird(500);
   const Mesh posed = bird.pose(20);
   // The frame before: the stateless pass's turns, raised where they are turned (the stateless pass
-  // takes the smallest turn that clears, from which nothing falls back).
+  // takes the smallest turn that clears, from which nothing falls back); a feather turned aside
+  // there is turned a tenth farther aside instead (its turn the same), so that a yaw kept is told
+  // from one of the pass's own (0.1, 0.2, 0.3, 0.45 radians, each way).
   CoatFrame first = bird.grow(posed, nullptr);
   const std::vector<int32_t> &unordered = first.layering.unordered;
+  size_t aside = 0;
   for (size_t i = 0; i < first.layer_state.turns.size(); ++i)
-    if (first.layer_state.turns[i] > 0.0f && !std::binary_search(unordered.begin(), unordered.end(), int32_t(i)))
+    if (first.layer_state.yaws[i] != 0.0f) {
+      first.layer_state.yaws[i] *= 1.1f;
+      ++aside;
+    } else if (first.layer_state.turns[i] > 0.0f &&
+               !std::binary_search(unordered.begin(), unordered.end(), int32_t(i))) {
       first.layer_state.turns[i] += 0.02f;
+    }
   const CoatFrame second = bird.grow(posed, &first);
   const size_t n = bird.coat->size();
   const FeatherRanges ranges = bird.coat->ranges();
-  size_t lowered = 0, outside = 0;
+  size_t lowered = 0, outside = 0, kept = 0;
   double most_out = 0.0;
   for (size_t i = 0; i < n; ++i) {
     // The step: fall_back rachis widths at the vanes' farthest point from the root (before the pass).
@@ -102,16 +114,26 @@ TEST_CASE("at rest, the warm start only lowers a turn toward the template, by at
       most_out = std::max(most_out, std::abs(change));
     }
     CHECK(second.layer_state.scales[i] >= first.layer_state.scales[i]);
+    // A yaw kept: the same side, no farther out, fallen by at most the step.
+    const double yaw = double(first.layer_state.yaws[i]), yaw_now = double(second.layer_state.yaws[i]);
+    if (yaw != 0.0 && yaw_now * yaw > 0.0 && std::abs(yaw_now) <= std::abs(yaw) + 1e-7 &&
+        std::abs(yaw_now - yaw) <= step * (1.0 + 1e-4) + 1e-6)
+      ++kept;
   }
   INFO(lowered << " of " << n << " turns lowered, " << outside << " changed otherwise (by up to " << most_out
-               << " radians)");
+               << " radians); " << kept << " of the " << aside << " feathers turned aside keep their yaw");
   CHECK(lowered > 50);
   // A raised turn that no longer clears (a lower feather steep beside it) takes the nearest turn
   // below that does, which may be farther than the step: measured 17 of 500.
   CHECK(outside * 20 <= n);
   CHECK(most_out < 0.1);
+  // Without the yaw carried, every feather turned aside would take one of the pass's own yaws
+  // (measured: 3 of 4 kept).
+  CHECK(aside >= 3);
+  CHECK(kept * 2 >= aside);
   CHECK(check::check_vanes(second.vanes.positions, second.vanes.triangles, second.vanes.triangle_feathers)
             .feather_pairs == 0);
+  CHECK(test::vane_points_below_skin(posed, second, 1e-5f * 40.0f) == 0);
 }
 
 TEST_CASE("through a smooth motion, the warm start's turns change by little from step to step, and far fewer jump "

@@ -243,25 +243,23 @@ TEST_CASE("a groom of hair groups writes every group: one BasisCurves prim each,
   }
 }
 
-TEST_CASE("the Sintel groups example: its brows and lashes pass check --strict on the frames it renders", "[cli]") {
+TEST_CASE("the Sintel groups example: its brows and lashes pass check --strict on its first frame", "[cli]") {
   // The scalp group is the shipped Sintel groom's and shares its crossings (grooms/sintel_groups/README.md).
+  // Its middle frame (24), every group, is in "every groom in grooms/ on the middle frame it renders".
   ScratchDir scratch("sintel_groups");
   const std::string groom = groups_dir() + "/sintel_groups.groom.yaml";
-  const RunResult run = run_plume("regrow " + quoted(groom) + " --frames 1-24:23 --no-stage --out " +
+  const RunResult run = run_plume("regrow " + quoted(groom) + " --frames 1 --no-stage --out " +
                                       quoted(scratch / "hair.####.usda") + " --preview " + quoted(scratch / "p.png"),
                                   scratch);
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
-  for (const std::string frame : {"1", "24"}) {
-    for (const std::string group : {"brows", "lashes"}) {
-      const std::string file = scratch / (frame == "1" ? "hair.0001.usda" : "hair.0024.usda");
-      const RunResult check = run_plume("check " + quoted(file) + " --groom " + quoted(groom) + " --frame " + frame +
-                                            " --group " + group + " --strict --json",
-                                        scratch);
-      INFO(group << " frame " << frame << "\n" << check.out << check.err);
-      CHECK(check.exit_code == 0);
-      CHECK(check.out.find("\"strands_off_groom_roots\":0") != std::string::npos);
-      CHECK(check.out.find("\"clean\":true") != std::string::npos);
-    }
+  for (const std::string group : {"brows", "lashes"}) {
+    const RunResult check = run_plume("check " + quoted(scratch / "hair.0001.usda") + " --groom " + quoted(groom) +
+                                          " --frame 1 --group " + group + " --strict --json",
+                                      scratch);
+    INFO(group << " frame 1\n" << check.out << check.err);
+    CHECK(check.exit_code == 0);
+    CHECK(check.out.find("\"strands_off_groom_roots\":0") != std::string::npos);
+    CHECK(check.out.find("\"clean\":true") != std::string::npos);
   }
 }

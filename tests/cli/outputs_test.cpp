@@ -40,27 +40,28 @@ TEST_CASE("a shipped groom's outputs stay in its folder, wherever it is copied a
       if (!pattern.empty()) CHECK(inside(pattern, folder));
   }
   // A copy of Sintel, run from a job folder elsewhere: its frames and previews go to the copy's out/,
-  // and the summary says so.
+  // and the summary says so. A proxy of its roots: where outputs go does not depend on the count
+  // (the shipped-grooms check regrows every groom at full count).
   ScratchDir scratch("copied_groom");
   copy_groom_folder("sintel", scratch.path / "shots/s010/groom");
   fs::create_directories(scratch.path / "job");
   const std::string groom = scratch / "shots/s010/groom/sintel.groom.yaml";
   const RunResult run = run_plume_command("cd " + quoted(scratch / "job") + " && " + quoted(PLUME_BINARY) +
-                                              " regrow ../shots/s010/groom/sintel.groom.yaml --frames 1 --preview-size 64",
+                                              " regrow ../shots/s010/groom/sintel.groom.yaml --frames 1 --strands 500 --preview-size 64",
                                           scratch);
   INFO(run.err);
   REQUIRE(run.exit_code == 0);
   const fs::path out = scratch.path / "shots/s010/groom/out";
-  // The frame, the USD stage of the groom's frames and its manifest, and the preview.
-  CHECK(files_in(out) == std::vector<std::string>{(out / "hair.0001.usda").string(), (out / "hair.manifest.usda").string(),
-                                                  (out / "hair.usda").string(), (out / "preview.0001.png").string()});
+  // The frame, the USD stage of the groom's frames and its manifest, and the preview (a proxy's names).
+  CHECK(files_in(out) == std::vector<std::string>{(out / "hair_proxy500.0001.usda").string(), (out / "hair_proxy500.manifest.usda").string(),
+                                                  (out / "hair_proxy500.usda").string(), (out / "preview_proxy500.0001.png").string()});
   CHECK(files_in(scratch.path / "job").empty());
   INFO(run.out);
-  const std::string size = std::to_string(fs::file_size(out / "hair.0001.usda"));
+  const std::string size = std::to_string(fs::file_size(out / "hair_proxy500.0001.usda"));
   CHECK(run.out.rfind("plume regrow: frame 1 (1) in ", 0) == 0);
-  CHECK(run.out.find("  strands   " + (out / "hair.####.usda").string() + ": 1 file, " + size + " bytes") !=
+  CHECK(run.out.find("  strands   " + (out / "hair_proxy500.####.usda").string() + ": 1 file, " + size + " bytes") !=
         std::string::npos);
-  CHECK(run.out.find("  previews  " + (out / "preview.####.png").string() + ": 1 file, ") != std::string::npos);
+  CHECK(run.out.find("  previews  " + (out / "preview_proxy500.####.png").string() + ": 1 file, ") != std::string::npos);
   // Command-line paths are relative to the current folder.
   const RunResult here = run_plume_command("cd " + quoted(scratch / "job") + " && " + quoted(PLUME_BINARY) +
                                                " regrow " + quoted(groom) +

@@ -40,9 +40,9 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DPLUME_BUILD_FUZZ=ON -DCMAKE_BUILD_
 cmake --build "$build" -j"$(nproc)"
 
 # Each target, the dictionary it mutates with, and which files of tests/data seed it.
-targets=(fuzz_obj_mesh fuzz_obj_strands fuzz_hair fuzz_ply_ascii fuzz_ply_binary fuzz_usda fuzz_groom fuzz_roots)
+targets=(fuzz_obj_mesh fuzz_obj_strands fuzz_hair fuzz_ply_ascii fuzz_ply_binary fuzz_usda fuzz_groom fuzz_roots fuzz_lifts)
 declare -A dict=([fuzz_obj_mesh]=obj [fuzz_obj_strands]=obj [fuzz_hair]=hair [fuzz_ply_ascii]=ply
-                 [fuzz_ply_binary]=ply [fuzz_usda]=usda [fuzz_groom]=yaml [fuzz_roots]=roots)
+                 [fuzz_ply_binary]=ply [fuzz_usda]=usda [fuzz_groom]=yaml [fuzz_roots]=roots [fuzz_lifts]=lifts)
 seeds_of() {
   case "$1" in
     fuzz_obj_mesh | fuzz_obj_strands) find tests/data -name '*.obj' ;;
@@ -52,6 +52,7 @@ seeds_of() {
     fuzz_usda) find tests/data -name '*.usda' ;;
     fuzz_groom) find tests/data -name '*.yaml' ;;
     fuzz_roots) find tests/data -name '*.txt' ;;
+    fuzz_lifts) find tests/data -name '*.lifts' ;;
   esac
 }
 

@@ -14,8 +14,9 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 constexpr float kRadians = kPi / 180.0f;
-// Fewer guides than this are posed on one thread: a parallel region costs more than they do.
-constexpr int64_t kParallelGuides = 256;
+// Fewer guides than this are posed on one thread: a parallel region costs more than they do (a
+// guide takes about a microsecond; a team of threads woken every frame spins between frames).
+constexpr int64_t kParallelGuides = 4096;
 
 // The random multiplier of a guide's twist, in [-1, 1): hashed from the control's seed and the
 // guide's stable id, so it is the same in every frame, on every machine and in any order.

@@ -124,12 +124,14 @@ class Separator {
       }
       if (stale_[u]) stale.push_back(uint32_t(u));
     }
-#pragma omp parallel for schedule(static, 1024)
+    // The searches again are many and often small: below a few thousand segments a team of threads
+    // costs more in waking and waiting than the work (the answers do not depend on the thread count).
+#pragma omp parallel for schedule(static, 1024) if (moving.size() > 4096)
     for (int64_t i = 0; i < int64_t(moving.size()); ++i) box(moving[size_t(i)]);
     const Grid stale_grid = grid_of(&stale);
     const float reach = reach_;
     std::vector<Pair> found;
-#pragma omp parallel
+#pragma omp parallel if (moving.size() > 256)
     {
       std::vector<Pair> mine;
 #pragma omp for schedule(dynamic, 64)
@@ -175,7 +177,7 @@ class Separator {
       flags.push_back(near_flags_[c]);
     }
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
-#pragma omp parallel for schedule(static, 1024)
+#pragma omp parallel for schedule(static, 1024) if (measure.size() > 4096)
     for (int64_t i = 0; i < int64_t(measure.size()); ++i) {
       const auto &[u, v] = merged[measure[size_t(i)]];
       flags[measure[size_t(i)]] = near(u, v, detect, cos_angle);

@@ -36,7 +36,7 @@ const plume = (...argv) => execFileSync(args.plume, argv, { encoding: 'utf8', st
 const STRANDS = 1500, FRAMES = [1, 8];
 const page = join(work, 'view.html');
 plume('view', args.groom, '--frames', '1-8', '--strands', String(STRANDS), '--tolerance', '0.01', '--out', page);
-plume('regrow', args.groom, '--frames', '1-8', '--strands', String(STRANDS), '--out', join(work, 'hair.####.hair'));
+plume('regrow', args.groom, '--frames', '1-8', '--strands', String(STRANDS), '--out', join(work, 'hair.####.hair'), '--no-preview');
 
 /// Cem Yuksel's .hair: 128-byte header, then segments (u16 per hair) when flagged, points (f32 x 3).
 function readHair(path) {
@@ -230,7 +230,7 @@ const withVanes = join(work, 'bird.html');
   const FEATHERS = 120, BIRD_FRAMES = [1, 24];
   plume('view', bird, '--frames', '1-24:23', '--strands', String(FEATHERS), '--out', withVanes);
   plume('regrow', bird, '--frames', '1-24:23', '--strands', String(FEATHERS), '--out', join(work, 'bird.####.hair'),
-    '--vanes', join(work, 'vanes.####.obj'), '--preview-every', '0');
+    '--vanes', join(work, 'vanes.####.obj'), '--no-preview');
   const readObj = (path) => {
     const v = [], f = [];
     for (const line of readFileSync(path, 'utf8').split('\n')) {

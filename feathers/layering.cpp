@@ -1264,29 +1264,27 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           end_kept(yaw, above);
           return true;
         }
+        // The clearing turn nearest `blocked` between a turn that clears and one that does not.
+        const auto nearest_clear = [&](double clear, double blocked) {
+          while (std::abs(clear - blocked) > tolerance) {
+            const double mid = 0.5 * (clear + blocked);
+            (clear_at(yaw, mid) ? clear : blocked) = mid;
+          }
+          return clear;
+        };
         double last_up = angle, last_down = angle;
         for (int s = 1; s <= kLocalSteps && (last_up < max_angle || last_down > 0.0); ++s) {
           const double up = std::min(angle + s * kStep, max_angle), down = std::max(angle - s * kStep, 0.0);
           if (up > last_up) {
             if (clear_at(yaw, up)) {
-              double below = last_up, above = up;
-              while (above - below > tolerance) {
-                const double mid = 0.5 * (below + above);
-                (clear_at(yaw, mid) ? above : below) = mid;
-              }
-              end_kept(yaw, above);
+              end_kept(yaw, nearest_clear(up, last_up));
               return true;
             }
             last_up = up;
           }
           if (down < last_down) {
             if (clear_at(yaw, down)) {
-              double below = down, above = last_down;
-              while (above - below > tolerance) {
-                const double mid = 0.5 * (below + above);
-                (clear_at(yaw, mid) ? below : above) = mid;
-              }
-              end_kept(yaw, below);
+              end_kept(yaw, nearest_clear(down, last_down));
               return true;
             }
             last_down = down;

@@ -1053,21 +1053,23 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         }
         return lo;
       };
+      // Between a value that clears (`clear`) and one that does not (`blocked`), the one nearest
+      // `blocked` that clears, by bisection to `tolerance`.
+      const auto nearest_clear = [](double clear, double blocked, double tolerance, const auto &clears) {
+        while (std::abs(clear - blocked) > tolerance) {
+          const double mid = 0.5 * (clear + blocked);
+          (clears(mid) ? clear : blocked) = mid;
+        }
+        return clear;
+      };
+      const auto clears = [&](double angle) { return !conflict(angle); };
       // The smallest turn in (below, above] that clears, `above` clearing (bisection to `tolerance`
       // radians), and the largest in [below, above), `below` clearing.
       auto lowest_clear = [&](double below, double above, double tolerance = 1e-4) {
-        while (above - below > tolerance) {
-          const double mid = 0.5 * (below + above);
-          (conflict(mid) ? below : above) = mid;
-        }
-        return above;
+        return nearest_clear(above, below, tolerance, clears);
       };
       auto highest_clear = [&](double below, double above, double tolerance = 1e-4) {
-        while (above - below > tolerance) {
-          const double mid = 0.5 * (below + above);
-          (conflict(mid) ? above : below) = mid;
-        }
-        return below;
+        return nearest_clear(below, above, tolerance, clears);
       };
       auto end_at = [&](double angle) {
         if (angle > 0.0) turn_by(angle);
@@ -1207,10 +1209,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             failing = at;
           }
           if (clearing < 0.0) continue;
-          while (failing >= 0.0 && clearing - failing > kAsideTolerance) {
-            const double mid = 0.5 * (failing + clearing);
-            (clear_moved(aside_move(yaw, mid)) ? clearing : failing) = mid;
-          }
+          if (failing >= 0.0)
+            clearing = nearest_clear(clearing, failing, kAsideTolerance,
+                                     [&](double a) { return clear_moved(aside_move(yaw, a)); });
           end_aside(yaw, clearing);
           return true;
         }
@@ -1227,6 +1228,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       auto keep_aside = [&](double yaw, double angle, double fall, double tolerance) {
         if (lower.empty() || outward.empty()) return false;
         const auto clear_at = [&](double y, double a) { return clear_moved(aside_move(y, a)); };
+        const auto clears_at_yaw = [&](double a) { return clear_at(yaw, a); };
         const auto end_kept = [&](double y, double a) {
           if (y != 0.0) {
             end_aside(y, a);
@@ -1242,49 +1244,29 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             end_kept(target, angle);
             return true;
           }
-          double failing = target, clearing = yaw;
-          while (std::abs(clearing - failing) > tolerance) {
-            const double mid = 0.5 * (failing + clearing);
-            (clear_at(mid, angle) ? clearing : failing) = mid;
-          }
+          const double clearing = nearest_clear(yaw, target, tolerance, [&](double y) { return clear_at(y, angle); });
           if (clearing != yaw || angle == 0.0) {
             end_kept(clearing, angle);
             return true;
           }
           // The yaw cannot fall: the turn falls instead, among the turns that clear.
-          double below = std::max(angle - fall, 0.0), above = angle;
-          if (clear_at(yaw, below)) {
-            above = below;
-          } else {
-            while (above - below > tolerance) {
-              const double mid = 0.5 * (below + above);
-              (clear_at(yaw, mid) ? above : below) = mid;
-            }
-          }
-          end_kept(yaw, above);
+          const double below = std::max(angle - fall, 0.0);
+          end_kept(yaw, clears_at_yaw(below) ? below : nearest_clear(angle, below, tolerance, clears_at_yaw));
           return true;
         }
-        // The clearing turn nearest `blocked` between a turn that clears and one that does not.
-        const auto nearest_clear = [&](double clear, double blocked) {
-          while (std::abs(clear - blocked) > tolerance) {
-            const double mid = 0.5 * (clear + blocked);
-            (clear_at(yaw, mid) ? clear : blocked) = mid;
-          }
-          return clear;
-        };
         double last_up = angle, last_down = angle;
         for (int s = 1; s <= kLocalSteps && (last_up < max_angle || last_down > 0.0); ++s) {
           const double up = std::min(angle + s * kStep, max_angle), down = std::max(angle - s * kStep, 0.0);
           if (up > last_up) {
             if (clear_at(yaw, up)) {
-              end_kept(yaw, nearest_clear(up, last_up));
+              end_kept(yaw, nearest_clear(up, last_up, tolerance, clears_at_yaw));
               return true;
             }
             last_up = up;
           }
           if (down < last_down) {
             if (clear_at(yaw, down)) {
-              end_kept(yaw, nearest_clear(down, last_down));
+              end_kept(yaw, nearest_clear(down, last_down, tolerance, clears_at_yaw));
               return true;
             }
             last_down = down;

@@ -477,6 +477,16 @@ int frame_slots(const Binding &binding, const FrameGuides &frame, size_t r, cons
   return used;
 }
 
+/// The guide a root is the root of (the binding gave that guide all the weight, and the two surface
+/// points coincide), or -1: its strand is the guide itself where the guide stays out of the skin.
+int32_t guide_at_root(const Binding &binding, const FrameGuides &frame, const Slot *slots, int used,
+                      const SurfaceFrame &root_frame) {
+  if (used == 1 && slots[0].weight == 1.0f &&
+      (frame.origins[size_t(slots[0].guide)] - root_frame.origin).norm() <= 1e-5f * binding.length_unit)
+    return slots[0].guide;
+  return -1;
+}
+
 /// A strand's first point: the root on the skin, lifted along its normal by the height of the guides'
 /// own first points above their surface points (carried), when that lifted point is outside the skin
 /// (where the skin folds, as at a thin ear, the normal can lead behind another part of it). Only the
@@ -596,12 +606,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       const Eigen::Vector3f root = lifted_root(binding, frame, guides, slots, used, root_frame,
                                                roots.points[size_t(r)].triangle, band);
 
-      // A root on a guide's root (the binding gave that guide all the weight, and the two surface
-      // points coincide): the strand is the guide itself, where the guide stays out of the skin.
-      int32_t on_guide = -1;
-      if (used == 1 && slots[0].weight == 1.0f &&
-          (frame.origins[size_t(slots[0].guide)] - root_frame.origin).norm() <= 1e-5f * binding.length_unit)
-        on_guide = slots[0].guide;
+      const int32_t on_guide = guide_at_root(binding, frame, slots, used, root_frame);
 
       if (on_guide >= 0 && !at_guide_root.empty()) at_guide_root[size_t(r)] = 1;
       if (settings.method == InterpolationSettings::Method::streamline) {
@@ -734,11 +739,11 @@ std::vector<Eigen::Vector3f> strand_starts(const Binding &binding, const Mesh &m
       starts[size_t(r)] = lifted_root(binding, frame, guides, slots, used, root_frame,
                                       roots.points[size_t(r)].triangle, band);
       // A streamline strand at a guide root is the guide's own curve where grow() follows it.
-      if (streamline && used == 1 && slots[0].weight == 1.0f &&
-          (frame.origins[size_t(slots[0].guide)] - root_frame.origin).norm() <= 1e-5f * binding.length_unit) {
+      const int32_t on_guide = guide_at_root(binding, frame, slots, used, root_frame);
+      if (streamline && on_guide >= 0) {
         Eigen::Vector3f ends[2];
         float lower[2];
-        if (follow_guide(guides.points(size_t(slots[0].guide)), query, curve_merge_fraction * binding.length_unit,
+        if (follow_guide(guides.points(size_t(on_guide)), query, curve_merge_fraction * binding.length_unit,
                          binding.skin_margin, 2, pieces, fine, ends, lower))
           starts[size_t(r)] = ends[0];
       }

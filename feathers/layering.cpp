@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
+#include <nanoflann.hpp>
 #include <optional>
 #include <queue>
 #include <set>
@@ -214,6 +215,19 @@ double ray_crossing(const Vec &origin, const Vec &direction, const Triangle &t) 
   if (v < 0.0 || u + v > 1.0) return -1.0;
   return e2.dot(q) / det;
 }
+
+/// The skin's vertices, for nanoflann: the normals near a feather bound the directions of its ways out.
+struct SkinVertices {
+  const std::vector<Eigen::Vector3f> *positions = nullptr;
+  size_t kdtree_get_point_count() const { return positions->size(); }
+  float kdtree_get_pt(size_t i, size_t dim) const { return (*positions)[i][int(dim)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box &) const {
+    return false;
+  }
+};
+using SkinVertexTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, SkinVertices>, SkinVertices, 3>;
 
 /// The feathers' indices sorted by their roots' x (then index), for the sweeps below.
 std::vector<int32_t> order_by_x(const std::vector<Vec> &roots) {
@@ -629,6 +643,21 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   std::optional<skin::SkinGrid> own_grid;
   const skin::SkinGrid *grid = skin_grid;
   if (skin && !grid) grid = &own_grid.emplace(skin->mesh(), *skin);
+  // The skin's vertices in a tree, and its longest edge: the skin point closest to a vertex of a
+  // feather lies on a triangle whose corners are near the feather's root (normal_cone below).
+  SkinVertices skin_vertices;
+  std::optional<SkinVertexTree> skin_vertex_tree;
+  double longest_edge = 0.0;
+  if (skin && !skin->mesh().positions.empty()) {
+    const Mesh &mesh = skin->mesh();
+    skin_vertices.positions = &mesh.positions;
+    skin_vertex_tree.emplace(3, skin_vertices, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    skin_vertex_tree->buildIndex();
+    for (const Eigen::Vector3i &t : mesh.triangles)
+      for (int k = 0; k < 3; ++k)
+        longest_edge = std::max(
+            longest_edge, double((mesh.positions[size_t(t[k])] - mesh.positions[size_t(t[(k + 1) % 3])]).norm()));
+  }
   int64_t lifted = 0, unresolved = 0, left_under = 0, aside_count = 0;
   std::vector<char> unordered(n, 0);
   float largest = 0.0f;
@@ -899,6 +928,52 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // place in `lower`), and their number returned.
       // The test at `q` (where vertex `x` lies) against the lower feathers listed (places in `lower`)
       // from `first` to `last`.
+      // The directions the way out can take from any vertex of mine, at any move about the root: a
+      // cone about `cone_axis` of half angle `cone_angle` holding the skin's vertex normals near the
+      // feather. A vertex q lies within the feather's extent of its root, so the skin point closest to
+      // it lies within twice that plus the root's distance to the skin of the root, on a triangle
+      // whose corners lie within the longest edge more; its normal is a weighted mean of those
+      // corners' normals, inside their cone when the cone is narrower than a half space (convex).
+      // Built when first needed; cone_known -1: no such cone (every direction is possible).
+      int cone_known = 0;
+      Vec cone_axis = Vec::Zero();
+      double cone_angle = M_PI;
+      std::vector<std::pair<uint32_t, float>> near_skin;
+      auto normal_cone = [&] {
+        cone_known = -1;
+        if (!skin_vertex_tree) return;
+        const Mesh &mesh = skin->mesh();
+        const Eigen::Vector3f root = mine.root.cast<float>();
+        const double to_skin = std::abs(double(skin->signed_distance(root)));
+        const double radius = (2.0 * mine.extent + to_skin + longest_edge) * (1.0 + 1e-5) +
+                              1e-5 * (mine.root.cwiseAbs().maxCoeff() + longest_edge);
+        near_skin.clear();
+        skin_vertex_tree->radiusSearch(root.data(), float(radius * radius), near_skin,
+                                       nanoflann::SearchParams(32, 0.0f, false));
+        Vec sum = Vec::Zero();
+        for (const auto &[v, distance] : near_skin) {
+          const Vec n = mesh.vertex_normals[v].cast<double>();
+          if (!(n.norm() > 0.5)) return;  // a vertex without a normal: no bound
+          sum += n;
+        }
+        if (near_skin.empty() || !(sum.norm() > 1e-6)) return;
+        cone_axis = sum.normalized();
+        double least = 1.0;
+        for (const auto &[v, distance] : near_skin)
+          least = std::min(least, cone_axis.dot(mesh.vertex_normals[v].cast<double>().normalized()));
+        // A slack for the weights' and the normals' rounding in float.
+        cone_angle = std::acos(std::clamp(least, -1.0, 1.0)) + 1e-4;
+        if (cone_angle < 0.5 * M_PI - 1e-3) cone_known = 1;
+      };
+      // Whether some direction of the cone, from the origin, passes within `radius` of `w`.
+      auto in_cone = [&](const Vec &w, double radius) {
+        if (cone_known == 0) normal_cone();
+        if (cone_known < 0) return true;
+        const double distance = w.norm();
+        if (distance <= radius) return true;
+        const double reach = cone_angle + std::asin(std::min(1.0, radius / distance)) + 1e-6;
+        return reach >= M_PI || cone_axis.dot(w) >= distance * std::cos(reach);
+      };
       auto under_lower_at = [&](const Vec &q, int64_t x, const int32_t *first, const int32_t *last,
                                 std::vector<char> *r_over) -> std::ptrdiff_t {
         Vec out = normal;
@@ -917,7 +992,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             bool reachable = false;
             for (size_t g = 0; g < f.centers.size() && !reachable; ++g) {
               const double group_reach = f.extent + f.radii[g] * (1.0 + 1e-9) + slack;
-              reachable = (f.centers[g] - q).squaredNorm() <= group_reach * group_reach;
+              const Vec to_group = f.centers[g] - q;
+              reachable = to_group.squaredNorm() <= group_reach * group_reach &&
+                          in_cone(to_group, f.radii[g] * (1.0 + 1e-9) + slack);
             }
             if (!reachable) continue;
             // The closest skin point moves little from one turn to the next: searched from the last.
@@ -985,6 +1062,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
               const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
               if ((other.feather->centers[other.group] - c).squaredNorm() > reach * reach) continue;
             }
+            if (witness.kind == 1 && witness.group == g && witness.candidate == k) continue;  // tried first
             if (pair_conflict(turn, g, k)) {
               witness = {1, g, k, 0};
               return blocked();
@@ -995,14 +1073,14 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // there, excepted as the root disc is). Last: the triangle tests above are cheaper.
         if (skin && turned)
           for (int64_t x = v0; x < v1; ++x)
-            if (below_skin(angle, scale, turn, x)) {
+            if (!(witness.kind == 2 && witness.vertex == x) && below_skin(angle, scale, turn, x)) {
               witness = {2, 0, 0, x};
               return blocked();
             }
         if (r_clear) *r_clear = 1;
         if (under_test)
           for (size_t k = 0; k < outward.size(); ++k)
-            if (under_lower(turn, k)) {
+            if (!(witness.kind == 3 && witness.vertex == int64_t(k)) && under_lower(turn, k)) {
               witness = {3, 0, 0, int64_t(k)};
               return true;
             }
@@ -1096,34 +1174,78 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // feather's boxes, then its triangles; every lower feather for the way out).
       std::vector<Vec> aside_vertices;
       bool counted_under = false;  // whether the feather was counted in left_under
-      std::vector<int32_t> all_lower(lower.size());
-      for (size_t l = 0; l < lower.size(); ++l) all_lower[l] = int32_t(l);
-      // The lower feather whose vanes met the last move tested (the next is near): tried first.
-      size_t aside_witness = SIZE_MAX;
+      // A yaw and a turn move the feather rigidly about its root: each point keeps its distance from
+      // it. So only the lower feathers whose vanes' boxes come within the feather's extent plus the
+      // gap of its root (with the slack for rounding) can meet it (`aside_near`, places in `lower`,
+      // ascending), and a vertex of mine can lie under a lower feather only when its distance from the
+      // root and that of the lower vanes' bounding sphere's center differ by at most the sphere's
+      // radius plus the lower extent: per vertex in `outward`, the lower feathers that pass,
+      // ascending, from aside_under_first[k]. Built on the first move tested; every test they skip
+      // is one the full test rejects, so the answers are the same.
+      std::vector<size_t> aside_near;
+      std::vector<int32_t> aside_under;
+      std::vector<size_t> aside_under_first;
+      auto aside_candidates = [&] {
+        for (size_t l = 0; l < lower.size(); ++l)
+          if (lower[l]->box.exteriorDistance(mine.root) <= mine.extent + gap + slack) aside_near.push_back(l);
+        aside_under_first.assign(1, 0);
+        std::vector<double> lower_from_root(lower.size());
+        for (size_t l = 0; l < lower.size(); ++l) lower_from_root[l] = (lower_centers[l] - mine.root).norm();
+        for (const int64_t x : outward) {
+          const double from_root = (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root).norm();
+          for (size_t l = 0; l < lower.size(); ++l)
+            if (std::abs(lower_from_root[l] - from_root) <= lower[l]->extent + lower_radii[l] + slack)
+              aside_under.push_back(int32_t(l));
+          aside_under_first.push_back(aside_under.size());
+        }
+      };
+      // The lower feather whose vanes met the last move tested (the next is near): tried first. So are
+      // the vertex last found below the skin and the vertex (its place in `outward`) last found under
+      // a lower feather.
+      size_t aside_witness = SIZE_MAX, aside_below = SIZE_MAX, aside_under_witness = SIZE_MAX;
       std::vector<Triangle> aside_triangles(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> aside_boxes(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> aside_group_boxes(mine.group_boxes.size());
+      std::vector<size_t> aside_turned_in(mine.group_boxes.size(), SIZE_MAX);  // the move that turned a group
+      // Per group, the box of its bounding sphere moved (a group's triangles lie in it), and of them all.
+      std::vector<Eigen::AlignedBox3d> aside_sphere_boxes(mine.group_boxes.size());
+      size_t aside_call = 0;
       // Per vertex, where the skin was last asked for it by a move and its signed distance there.
       std::vector<std::pair<Vec, double>> aside_known;
       auto clear_moved = [&](const Eigen::Matrix3d &move) {
+        if (aside_under_first.empty()) aside_candidates();
+        ++aside_call;
         const auto moved_point = [&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); };
         Eigen::AlignedBox3d all;
-        for (Eigen::AlignedBox3d &box : aside_group_boxes) box.setEmpty();
-        for (size_t t = 0; t < mine.triangles.size(); ++t) {
-          aside_boxes[t].setEmpty();
-          for (size_t v = 0; v < 3; ++v) {
-            aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
-            aside_boxes[t].extend(aside_triangles[t][v]);
-          }
-          aside_group_boxes[t / kGroup].extend(aside_boxes[t]);
-          all.extend(aside_boxes[t]);
+        for (size_t m = 0; m < mine.centers.size(); ++m) {
+          const Vec c = moved_point(mine.centers[m]);
+          const double r = mine.radii[m] * (1.0 + 1e-9) + slack;
+          aside_sphere_boxes[m] = Eigen::AlignedBox3d(c.array() - r, c.array() + r);
+          all.extend(aside_sphere_boxes[m]);
         }
-        // Pairs of groups first (a triangle's box lies in its group's, so a pair of triangles whose
-        // groups' boxes are apart is apart too).
+        // A group of mine is moved when first tested.
+        const auto move_group = [&](size_t m) {
+          if (aside_turned_in[m] == aside_call) return;
+          aside_turned_in[m] = aside_call;
+          aside_group_boxes[m].setEmpty();
+          const size_t end = std::min(mine.triangles.size(), m * kGroup + kGroup);
+          for (size_t t = m * kGroup; t < end; ++t) {
+            aside_boxes[t].setEmpty();
+            for (size_t v = 0; v < 3; ++v) {
+              aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
+              aside_boxes[t].extend(aside_triangles[t][v]);
+            }
+            aside_group_boxes[m].extend(aside_boxes[t]);
+          }
+        };
+        // A triangle's box lies in its group's, so a pair of triangles whose groups' boxes are apart is
+        // apart too.
         const auto vanes_meet = [&](size_t l) {
           const FeatherVanes &f = *lower[l];
           if (apart(all, f.box)) return false;
-          for (size_t m = 0; m < aside_group_boxes.size(); ++m) {
+          for (size_t m = 0; m < mine.centers.size(); ++m) {
+            if (apart(aside_sphere_boxes[m], f.box)) continue;
+            move_group(m);
             if (apart(aside_group_boxes[m], f.box)) continue;
             const size_t mine_end = std::min(aside_triangles.size(), m * kGroup + kGroup);
             for (size_t g = 0; g < f.group_boxes.size(); ++g) {
@@ -1140,33 +1262,50 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           return false;
         };
         if (aside_witness != SIZE_MAX && vanes_meet(aside_witness)) return false;
-        for (size_t l = 0; l < lower.size(); ++l)
+        for (const size_t l : aside_near)
           if (l != aside_witness && vanes_meet(l)) {
             aside_witness = l;
             return false;
           }
         aside_vertices.resize(size_t(v1 - v0));
-        if (closed_skin && aside_known.empty()) aside_known.assign(size_t(v1 - v0), {Vec::Zero(), -1.0});
-        for (int64_t x = v0; x < v1; ++x) {
-          const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
-          const Vec &q = aside_vertices[size_t(x - v0)] = moved_point(p);
-          if (!skin || (p - mine.root).norm() <= double(options.root_disc) * mine.extent) continue;
-          // On a closed skin, a vertex that has not moved as far as it was from the skin the last
-          // time it was asked here is still out (as below_skin's bound).
-          if (closed_skin) {
-            auto &[last, distance] = aside_known[size_t(x - v0)];
-            if (distance > (q - last).norm() + skin_slack) continue;
-            last = q;
-            distance = skin_distance(q, mine_skin[size_t(x - v0)]);
-            if (distance < 0.0) return false;
-          } else if (skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0) {
+        for (int64_t x = v0; x < v1; ++x)
+          aside_vertices[size_t(x - v0)] = moved_point(r_frame.vanes.positions[size_t(x)].cast<double>());
+        if (skin) {
+          if (closed_skin && aside_known.empty()) aside_known.assign(size_t(v1 - v0), {Vec::Zero(), -1.0});
+          const auto below = [&](int64_t x) {
+            const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
+            if ((p - mine.root).norm() <= double(options.root_disc) * mine.extent) return false;
+            const Vec &q = aside_vertices[size_t(x - v0)];
+            // On a closed skin, a vertex that has not moved as far as it was from the skin the last
+            // time it was asked here is still out (as below_skin's bound).
+            if (closed_skin) {
+              auto &[last, distance] = aside_known[size_t(x - v0)];
+              if (distance > (q - last).norm() + skin_slack) return false;
+              last = q;
+              distance = skin_distance(q, mine_skin[size_t(x - v0)]);
+              return distance < 0.0;
+            }
+            return skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0;
+          };
+          if (aside_below != SIZE_MAX && below(int64_t(aside_below))) return false;
+          for (int64_t x = v0; x < v1; ++x)
+            if (size_t(x) != aside_below && below(x)) {
+              aside_below = size_t(x);
+              return false;
+            }
+        }
+        const auto under = [&](size_t k) {
+          const int64_t x = outward[k];
+          const int32_t *list = aside_under.data();
+          return under_lower_at(aside_vertices[size_t(x - v0)], x, list + aside_under_first[k],
+                                list + aside_under_first[k + 1], nullptr) != 0;
+        };
+        if (aside_under_witness != SIZE_MAX && under(aside_under_witness)) return false;
+        for (size_t k = 0; k < outward.size(); ++k)
+          if (k != aside_under_witness && under(k)) {
+            aside_under_witness = k;
             return false;
           }
-        }
-        for (const int64_t x : outward)
-          if (under_lower_at(aside_vertices[size_t(x - v0)], x, all_lower.data(), all_lower.data() + all_lower.size(),
-                             nullptr))
-            return false;
         return true;
       };
       // The move of a feather turned aside: the yaw about the skin normal, then the turn about the axis

@@ -736,6 +736,15 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // (A shrink changes both, so the search by shrinking gathers its candidates without it.)
       std::vector<std::vector<Candidate>> candidates;
       const double slack = 1e-9 * (mine.extent + mine.root.cwiseAbs().maxCoeff());
+      // My groups by their rings' height along the axis: a lower group is compared only with those
+      // whose height is within the largest reach of its own (the others fail the test below).
+      std::vector<size_t> by_height(mine.centers.size());
+      for (size_t g = 0; g < by_height.size(); ++g) by_height[g] = g;
+      std::sort(by_height.begin(), by_height.end(), [&](size_t a, size_t b) {
+        return mine_rings[a].x() < mine_rings[b].x() || (mine_rings[a].x() == mine_rings[b].x() && a < b);
+      });
+      std::vector<double> heights(by_height.size());
+      for (size_t m = 0; m < by_height.size(); ++m) heights[m] = mine_rings[by_height[m]].x();
       auto gather = [&](bool turns_only) {
         candidates.assign(mine.centers.size(), {});
         bool any = false;
@@ -745,11 +754,16 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           for (size_t k = 0; k < f->centers.size(); ++k) {
             if ((f->centers[k] - mine.root).norm() > mine.extent + f->radii[k] + gap) continue;
             const Eigen::Vector2d other = ring(f->centers[k]);
+            size_t first = 0, last = mine.centers.size();
             if (turns_only) {
               const double reach = largest_radius + f->radii[k] + gap + slack;
               if (rings_box.squaredExteriorDistance(other) > reach * reach) continue;
+              const double window = reach * (1.0 + 1e-9) + 1e-9 * std::abs(other.x());
+              first = size_t(std::lower_bound(heights.begin(), heights.end(), other.x() - window) - heights.begin());
+              last = size_t(std::upper_bound(heights.begin(), heights.end(), other.x() + window) - heights.begin());
             }
-            for (size_t g = 0; g < mine.centers.size(); ++g) {
+            for (size_t m = first; m < last; ++m) {
+              const size_t g = turns_only ? by_height[m] : m;
               const double reach = mine.radii[g] + f->radii[k] + gap + slack;
               if (turns_only &&
                   (std::abs(other.x() - mine_rings[g].x()) > reach || std::abs(other.y() - mine_rings[g].y()) > reach))
@@ -823,15 +837,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       if (!gather(true) && outward_lower.empty()) continue;
       std::vector<Triangle> moved(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> moved_boxes(mine.triangles.size());
-      // The last conflict found (a pair of triangle groups, or a vertex below the skin) is tried
-      // first: the search's next angle is near, so it usually conflicts again and the answer comes at
-      // once. The answer is the full test's either way (every test skipped is conservative).
+      // The last conflict found of each kind (a pair of triangle groups, a vertex below the skin, a
+      // vertex under a lower feather) is tried first: the search's next angle is near, so it usually
+      // conflicts again and the answer comes at once. The answer is the full test's either way (every
+      // test skipped is conservative).
       struct Witness {
-        // 0 none, 1 a group of mine against a candidate, 2 a vertex below the skin, 3 a vertex (its
-        // place in `outward`) under a lower feather
-        int kind = 0;
+        bool pair = false;  // a group of mine against a candidate
         size_t group = 0, candidate = 0;
+        bool below = false;  // a vertex below the skin
         int64_t vertex = 0;
+        bool under = false;  // a vertex (its place in `outward`) under a lower feather
+        size_t outward = 0;
       } witness;
       size_t call = 0;
       std::vector<size_t> turned_in(mine.centers.size(), SIZE_MAX);  // the call that turned a group
@@ -1048,9 +1064,19 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (r_clear) *r_clear = 0;
           return true;
         };
-        if (witness.kind == 1 && pair_conflict(turn, witness.group, witness.candidate)) return blocked();
-        if (witness.kind == 2 && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return blocked();
-        if (witness.kind == 3 && under_test && under_lower(turn, size_t(witness.vertex))) return true;
+        // Whether group g of mine and its candidate k may meet: their spheres.
+        const auto spheres_meet = [&](size_t g, size_t k) {
+          const Candidate &other = candidates[g][k];
+          if (scale == 1.0) return cos_angle * other.along + sin_angle * other.across >= other.least;
+          const Vec c = mine.root + turn * (mine.centers[g] - mine.root);
+          const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
+          return (other.feather->centers[other.group] - c).squaredNorm() <= reach * reach;
+        };
+        if (witness.pair && spheres_meet(witness.group, witness.candidate) &&
+            pair_conflict(turn, witness.group, witness.candidate))
+          return blocked();
+        if (witness.below && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return blocked();
+        if (witness.under && under_test && under_lower(turn, witness.outward)) return true;
         for (size_t g = 0; g < mine.centers.size(); ++g) {
           if (candidates[g].empty()) continue;
           const Vec c = scale == 1.0 ? mine.centers[g] : Vec(mine.root + turn * (mine.centers[g] - mine.root));
@@ -1062,9 +1088,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
               const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
               if ((other.feather->centers[other.group] - c).squaredNorm() > reach * reach) continue;
             }
-            if (witness.kind == 1 && witness.group == g && witness.candidate == k) continue;  // tried first
+            if (witness.pair && witness.group == g && witness.candidate == k) continue;  // tried first
             if (pair_conflict(turn, g, k)) {
-              witness = {1, g, k, 0};
+              witness.pair = true;
+              witness.group = g;
+              witness.candidate = k;
               return blocked();
             }
           }
@@ -1073,15 +1101,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // there, excepted as the root disc is). Last: the triangle tests above are cheaper.
         if (skin && turned)
           for (int64_t x = v0; x < v1; ++x)
-            if (!(witness.kind == 2 && witness.vertex == x) && below_skin(angle, scale, turn, x)) {
-              witness = {2, 0, 0, x};
+            if (!(witness.below && witness.vertex == x) && below_skin(angle, scale, turn, x)) {
+              witness.below = true;
+              witness.vertex = x;
               return blocked();
             }
         if (r_clear) *r_clear = 1;
         if (under_test)
           for (size_t k = 0; k < outward.size(); ++k)
-            if (!(witness.kind == 3 && witness.vertex == int64_t(k)) && under_lower(turn, k)) {
-              witness = {3, 0, 0, int64_t(k)};
+            if (!(witness.under && witness.outward == k) && under_lower(turn, k)) {
+              witness.under = true;
+              witness.outward = k;
               return true;
             }
         return false;
@@ -1153,12 +1183,29 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         if (angle > 0.0) turn_by(angle);
       };
       // How many lower feathers are over it at `angle`, counted up to `enough` (no more is asked).
+      // The vertices (places in `outward`) under a lower feather at the last count are asked first, so
+      // that a count reaching `enough` stops sooner; below `enough` every vertex is asked, and the
+      // count is the same in any order (each lower feather over it counts once).
       std::vector<char> over(lower.size());
+      std::vector<size_t> last_under, now_under;
+      std::vector<size_t> counted_in(outward.size(), SIZE_MAX);  // the count that asked a vertex
+      size_t counts = 0;
       auto under_count = [&](double angle, std::ptrdiff_t enough) {
         std::fill(over.begin(), over.end(), char(0));
         const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+        ++counts;
+        now_under.clear();
         std::ptrdiff_t count = 0;
-        for (size_t k = 0; k < outward.size() && count < enough; ++k) count += under_lower(turn, k, &over);
+        const auto ask = [&](size_t k) {
+          counted_in[k] = counts;
+          const std::ptrdiff_t marked = under_lower(turn, k, &over);
+          if (marked > 0) now_under.push_back(k);
+          count += marked;
+        };
+        for (size_t m = 0; m < last_under.size() && count < enough; ++m) ask(last_under[m]);
+        for (size_t k = 0; k < outward.size() && count < enough; ++k)
+          if (counted_in[k] != counts) ask(k);
+        last_under.swap(now_under);
         return count;
       };
       constexpr double kStep = 0.02;  // radians, about 1.1 degrees
@@ -1261,46 +1308,55 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           }
           return false;
         };
-        if (aside_witness != SIZE_MAX && vanes_meet(aside_witness)) return false;
-        for (const size_t l : aside_near)
-          if (l != aside_witness && vanes_meet(l)) {
-            aside_witness = l;
-            return false;
-          }
         aside_vertices.resize(size_t(v1 - v0));
-        for (int64_t x = v0; x < v1; ++x)
-          aside_vertices[size_t(x - v0)] = moved_point(r_frame.vanes.positions[size_t(x)].cast<double>());
-        if (skin) {
-          if (closed_skin && aside_known.empty()) aside_known.assign(size_t(v1 - v0), {Vec::Zero(), -1.0});
-          const auto below = [&](int64_t x) {
-            const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
-            if ((p - mine.root).norm() <= double(options.root_disc) * mine.extent) return false;
-            const Vec &q = aside_vertices[size_t(x - v0)];
-            // On a closed skin, a vertex that has not moved as far as it was from the skin the last
-            // time it was asked here is still out (as below_skin's bound).
-            if (closed_skin) {
-              auto &[last, distance] = aside_known[size_t(x - v0)];
-              if (distance > (q - last).norm() + skin_slack) return false;
-              last = q;
-              distance = skin_distance(q, mine_skin[size_t(x - v0)]);
-              return distance < 0.0;
-            }
-            return skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0;
-          };
-          if (aside_below != SIZE_MAX && below(int64_t(aside_below))) return false;
-          for (int64_t x = v0; x < v1; ++x)
-            if (size_t(x) != aside_below && below(x)) {
-              aside_below = size_t(x);
-              return false;
-            }
-        }
+        if (closed_skin && aside_known.empty()) aside_known.assign(size_t(v1 - v0), {Vec::Zero(), -1.0});
+        const auto below = [&](int64_t x) {
+          const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
+          if ((p - mine.root).norm() <= double(options.root_disc) * mine.extent) return false;
+          const Vec &q = aside_vertices[size_t(x - v0)];
+          // On a closed skin, a vertex that has not moved as far as it was from the skin the last
+          // time it was asked here is still out (as below_skin's bound).
+          if (closed_skin) {
+            auto &[last, distance] = aside_known[size_t(x - v0)];
+            if (distance > (q - last).norm() + skin_slack) return false;
+            last = q;
+            distance = skin_distance(q, mine_skin[size_t(x - v0)]);
+            return distance < 0.0;
+          }
+          return skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0;
+        };
         const auto under = [&](size_t k) {
           const int64_t x = outward[k];
           const int32_t *list = aside_under.data();
           return under_lower_at(aside_vertices[size_t(x - v0)], x, list + aside_under_first[k],
                                 list + aside_under_first[k + 1], nullptr) != 0;
         };
-        if (aside_under_witness != SIZE_MAX && under(aside_under_witness)) return false;
+        const auto move_vertex = [&](int64_t x) {
+          aside_vertices[size_t(x - v0)] = moved_point(r_frame.vanes.positions[size_t(x)].cast<double>());
+        };
+        // The three tests must all pass: the last conflict of each kind is tried first, whichever
+        // kind met last (a move clear of the vanes is often still under a lower feather).
+        if (aside_witness != SIZE_MAX && vanes_meet(aside_witness)) return false;
+        if (skin && aside_below != SIZE_MAX) {
+          move_vertex(int64_t(aside_below));
+          if (below(int64_t(aside_below))) return false;
+        }
+        if (aside_under_witness != SIZE_MAX) {
+          move_vertex(outward[aside_under_witness]);
+          if (under(aside_under_witness)) return false;
+        }
+        for (const size_t l : aside_near)
+          if (l != aside_witness && vanes_meet(l)) {
+            aside_witness = l;
+            return false;
+          }
+        for (int64_t x = v0; x < v1; ++x) move_vertex(x);
+        if (skin)
+          for (int64_t x = v0; x < v1; ++x)
+            if (size_t(x) != aside_below && below(x)) {
+              aside_below = size_t(x);
+              return false;
+            }
         for (size_t k = 0; k < outward.size(); ++k)
           if (k != aside_under_witness && under(k)) {
             aside_under_witness = k;

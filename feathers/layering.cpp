@@ -940,16 +940,12 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // beyond a fold of skin counts too (more turning asked than needed, never less).
       bool under_test = !outward_lower.empty();
       std::vector<SurfacePoint> closest_hints(under_test && skin ? size_t(v1 - v0) : 0);
-      // With `r_over`, every lower feather over the vertex not marked yet is marked there (by its
-      // place in `lower`), and their number returned.
-      // The test at `q` (where vertex `x` lies) against the lower feathers listed (places in `lower`)
-      // from `first` to `last`.
       // The directions the way out can take from any vertex of mine, at any move about the root: a
       // cone about `cone_axis` of half angle `cone_angle` holding the skin's vertex normals near the
       // feather. A vertex q lies within the feather's extent of its root, so the skin point closest to
-      // it lies within twice that plus the root's distance to the skin of the root, on a triangle
-      // whose corners lie within the longest edge more; its normal is a weighted mean of those
-      // corners' normals, inside their cone when the cone is narrower than a half space (convex).
+      // it lies within twice that plus the root's distance to the skin, on a triangle
+      // whose corners lie within the longest skin edge more; the normal there is a weighted mean of
+      // those corners' normals, inside their cone when the cone is narrower than a half space.
       // Built when first needed; cone_known -1: no such cone (every direction is possible).
       int cone_known = 0;
       Vec cone_axis = Vec::Zero();
@@ -990,6 +986,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         const double reach = cone_angle + std::asin(std::min(1.0, radius / distance)) + 1e-6;
         return reach >= M_PI || cone_axis.dot(w) >= distance * std::cos(reach);
       };
+      // With `r_over`, every lower feather over the vertex not marked yet is marked there (by its
+      // place in `lower`), and their number returned.
+      // The test at `q` (where vertex `x` lies) against the lower feathers listed (places in `lower`)
+      // from `first` to `last`.
       auto under_lower_at = [&](const Vec &q, int64_t x, const int32_t *first, const int32_t *last,
                                 std::vector<char> *r_over) -> std::ptrdiff_t {
         Vec out = normal;
@@ -1217,8 +1217,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // every lower feather's vanes by the offset, out of the skin and from under every lower feather.
       // A yaw and a turn move it rigidly about its root, so it stays within its extent of it and meets
       // only the lower feathers placed before it. Found: the feather ends there, and true; none: false,
-      // nothing changed. Tested without the shortcuts of the turns about the axis (every lower
-      // feather's boxes, then its triangles; every lower feather for the way out).
+      // nothing changed. Tested without the shortcuts of the turns about the axis, with those of any
+      // move about the root (clear_moved).
       std::vector<Vec> aside_vertices;
       bool counted_under = false;  // whether the feather was counted in left_under
       // A yaw and a turn move the feather rigidly about its root: each point keeps its distance from

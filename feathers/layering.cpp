@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <mutex>
+#include <nanoflann.hpp>
 #include <optional>
 #include <queue>
 #include <set>
@@ -214,6 +215,19 @@ double ray_crossing(const Vec &origin, const Vec &direction, const Triangle &t) 
   if (v < 0.0 || u + v > 1.0) return -1.0;
   return e2.dot(q) / det;
 }
+
+/// The skin's vertices, for nanoflann: the normals near a feather bound the directions of its ways out.
+struct SkinVertices {
+  const std::vector<Eigen::Vector3f> *positions = nullptr;
+  size_t kdtree_get_point_count() const { return positions->size(); }
+  float kdtree_get_pt(size_t i, size_t dim) const { return (*positions)[i][int(dim)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box &) const {
+    return false;
+  }
+};
+using SkinVertexTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, SkinVertices>, SkinVertices, 3>;
 
 /// The feathers' indices sorted by their roots' x (then index), for the sweeps below.
 std::vector<int32_t> order_by_x(const std::vector<Vec> &roots) {
@@ -629,6 +643,21 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   std::optional<skin::SkinGrid> own_grid;
   const skin::SkinGrid *grid = skin_grid;
   if (skin && !grid) grid = &own_grid.emplace(skin->mesh(), *skin);
+  // The skin's vertices in a tree, and its longest edge: the skin point closest to a vertex of a
+  // feather lies on a triangle whose corners are near the feather's root (normal_cone below).
+  SkinVertices skin_vertices;
+  std::optional<SkinVertexTree> skin_vertex_tree;
+  double longest_edge = 0.0;
+  if (skin && !skin->mesh().positions.empty()) {
+    const Mesh &mesh = skin->mesh();
+    skin_vertices.positions = &mesh.positions;
+    skin_vertex_tree.emplace(3, skin_vertices, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    skin_vertex_tree->buildIndex();
+    for (const Eigen::Vector3i &t : mesh.triangles)
+      for (int k = 0; k < 3; ++k)
+        longest_edge = std::max(
+            longest_edge, double((mesh.positions[size_t(t[k])] - mesh.positions[size_t(t[(k + 1) % 3])]).norm()));
+  }
   int64_t lifted = 0, unresolved = 0, left_under = 0, aside_count = 0;
   std::vector<char> unordered(n, 0);
   float largest = 0.0f;
@@ -707,6 +736,15 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // (A shrink changes both, so the search by shrinking gathers its candidates without it.)
       std::vector<std::vector<Candidate>> candidates;
       const double slack = 1e-9 * (mine.extent + mine.root.cwiseAbs().maxCoeff());
+      // My groups by their rings' height along the axis: a lower group is compared only with those
+      // whose height is within the largest reach of its own (the others fail the test below).
+      std::vector<size_t> by_height(mine.centers.size());
+      for (size_t g = 0; g < by_height.size(); ++g) by_height[g] = g;
+      std::sort(by_height.begin(), by_height.end(), [&](size_t a, size_t b) {
+        return mine_rings[a].x() < mine_rings[b].x() || (mine_rings[a].x() == mine_rings[b].x() && a < b);
+      });
+      std::vector<double> heights(by_height.size());
+      for (size_t m = 0; m < by_height.size(); ++m) heights[m] = mine_rings[by_height[m]].x();
       auto gather = [&](bool turns_only) {
         candidates.assign(mine.centers.size(), {});
         bool any = false;
@@ -716,11 +754,16 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           for (size_t k = 0; k < f->centers.size(); ++k) {
             if ((f->centers[k] - mine.root).norm() > mine.extent + f->radii[k] + gap) continue;
             const Eigen::Vector2d other = ring(f->centers[k]);
+            size_t first = 0, last = mine.centers.size();
             if (turns_only) {
               const double reach = largest_radius + f->radii[k] + gap + slack;
               if (rings_box.squaredExteriorDistance(other) > reach * reach) continue;
+              const double window = reach * (1.0 + 1e-9) + 1e-9 * std::abs(other.x());
+              first = size_t(std::lower_bound(heights.begin(), heights.end(), other.x() - window) - heights.begin());
+              last = size_t(std::upper_bound(heights.begin(), heights.end(), other.x() + window) - heights.begin());
             }
-            for (size_t g = 0; g < mine.centers.size(); ++g) {
+            for (size_t m = first; m < last; ++m) {
+              const size_t g = turns_only ? by_height[m] : m;
               const double reach = mine.radii[g] + f->radii[k] + gap + slack;
               if (turns_only &&
                   (std::abs(other.x() - mine_rings[g].x()) > reach || std::abs(other.y() - mine_rings[g].y()) > reach))
@@ -794,15 +837,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       if (!gather(true) && outward_lower.empty()) continue;
       std::vector<Triangle> moved(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> moved_boxes(mine.triangles.size());
-      // The last conflict found (a pair of triangle groups, or a vertex below the skin) is tried
-      // first: the search's next angle is near, so it usually conflicts again and the answer comes at
-      // once. The answer is the full test's either way (every test skipped is conservative).
+      // The last conflict found of each kind (a pair of triangle groups, a vertex below the skin, a
+      // vertex under a lower feather) is tried first: the search's next angle is near, so it usually
+      // conflicts again and the answer comes at once. The answer is the full test's either way (every
+      // test skipped is conservative).
       struct Witness {
-        // 0 none, 1 a group of mine against a candidate, 2 a vertex below the skin, 3 a vertex (its
-        // place in `outward`) under a lower feather
-        int kind = 0;
+        bool pair = false;  // a group of mine against a candidate
         size_t group = 0, candidate = 0;
+        bool below = false;  // a vertex below the skin
         int64_t vertex = 0;
+        bool under = false;  // a vertex (its place in `outward`) under a lower feather
+        size_t outward = 0;
       } witness;
       size_t call = 0;
       std::vector<size_t> turned_in(mine.centers.size(), SIZE_MAX);  // the call that turned a group
@@ -895,6 +940,52 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // beyond a fold of skin counts too (more turning asked than needed, never less).
       bool under_test = !outward_lower.empty();
       std::vector<SurfacePoint> closest_hints(under_test && skin ? size_t(v1 - v0) : 0);
+      // The directions the way out can take from any vertex of mine, at any move about the root: a
+      // cone about `cone_axis` of half angle `cone_angle` holding the skin's vertex normals near the
+      // feather. A vertex q lies within the feather's extent of its root, so the skin point closest to
+      // it lies within twice that plus the root's distance to the skin, on a triangle
+      // whose corners lie within the longest skin edge more; the normal there is a weighted mean of
+      // those corners' normals, inside their cone when the cone is narrower than a half space.
+      // Built when first needed; cone_known -1: no such cone (every direction is possible).
+      int cone_known = 0;
+      Vec cone_axis = Vec::Zero();
+      double cone_angle = M_PI;
+      std::vector<std::pair<uint32_t, float>> near_skin;
+      auto normal_cone = [&] {
+        cone_known = -1;
+        if (!skin_vertex_tree) return;
+        const Mesh &mesh = skin->mesh();
+        const Eigen::Vector3f root = mine.root.cast<float>();
+        const double to_skin = std::abs(double(skin->signed_distance(root)));
+        const double radius = (2.0 * mine.extent + to_skin + longest_edge) * (1.0 + 1e-5) +
+                              1e-5 * (mine.root.cwiseAbs().maxCoeff() + longest_edge);
+        near_skin.clear();
+        skin_vertex_tree->radiusSearch(root.data(), float(radius * radius), near_skin,
+                                       nanoflann::SearchParams(32, 0.0f, false));
+        Vec sum = Vec::Zero();
+        for (const auto &[v, distance] : near_skin) {
+          const Vec n = mesh.vertex_normals[v].cast<double>();
+          if (!(n.norm() > 0.5)) return;  // a vertex without a normal: no bound
+          sum += n;
+        }
+        if (near_skin.empty() || !(sum.norm() > 1e-6)) return;
+        cone_axis = sum.normalized();
+        double least = 1.0;
+        for (const auto &[v, distance] : near_skin)
+          least = std::min(least, cone_axis.dot(mesh.vertex_normals[v].cast<double>().normalized()));
+        // A slack for the weights' and the normals' rounding in float.
+        cone_angle = std::acos(std::clamp(least, -1.0, 1.0)) + 1e-4;
+        if (cone_angle < 0.5 * M_PI - 1e-3) cone_known = 1;
+      };
+      // Whether some direction of the cone, from the origin, passes within `radius` of `w`.
+      auto in_cone = [&](const Vec &w, double radius) {
+        if (cone_known == 0) normal_cone();
+        if (cone_known < 0) return true;
+        const double distance = w.norm();
+        if (distance <= radius) return true;
+        const double reach = cone_angle + std::asin(std::min(1.0, radius / distance)) + 1e-6;
+        return reach >= M_PI || cone_axis.dot(w) >= distance * std::cos(reach);
+      };
       // With `r_over`, every lower feather over the vertex not marked yet is marked there (by its
       // place in `lower`), and their number returned.
       // The test at `q` (where vertex `x` lies) against the lower feathers listed (places in `lower`)
@@ -917,7 +1008,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             bool reachable = false;
             for (size_t g = 0; g < f.centers.size() && !reachable; ++g) {
               const double group_reach = f.extent + f.radii[g] * (1.0 + 1e-9) + slack;
-              reachable = (f.centers[g] - q).squaredNorm() <= group_reach * group_reach;
+              const Vec to_group = f.centers[g] - q;
+              reachable = to_group.squaredNorm() <= group_reach * group_reach &&
+                          in_cone(to_group, f.radii[g] * (1.0 + 1e-9) + slack);
             }
             if (!reachable) continue;
             // The closest skin point moves little from one turn to the next: searched from the last.
@@ -971,9 +1064,19 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (r_clear) *r_clear = 0;
           return true;
         };
-        if (witness.kind == 1 && pair_conflict(turn, witness.group, witness.candidate)) return blocked();
-        if (witness.kind == 2 && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return blocked();
-        if (witness.kind == 3 && under_test && under_lower(turn, size_t(witness.vertex))) return true;
+        // Whether group g of mine and its candidate k may meet: their spheres.
+        const auto spheres_meet = [&](size_t g, size_t k) {
+          const Candidate &other = candidates[g][k];
+          if (scale == 1.0) return cos_angle * other.along + sin_angle * other.across >= other.least;
+          const Vec c = mine.root + turn * (mine.centers[g] - mine.root);
+          const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
+          return (other.feather->centers[other.group] - c).squaredNorm() <= reach * reach;
+        };
+        if (witness.pair && spheres_meet(witness.group, witness.candidate) &&
+            pair_conflict(turn, witness.group, witness.candidate))
+          return blocked();
+        if (witness.below && skin && turned && below_skin(angle, scale, turn, witness.vertex)) return blocked();
+        if (witness.under && under_test && under_lower(turn, witness.outward)) return true;
         for (size_t g = 0; g < mine.centers.size(); ++g) {
           if (candidates[g].empty()) continue;
           const Vec c = scale == 1.0 ? mine.centers[g] : Vec(mine.root + turn * (mine.centers[g] - mine.root));
@@ -985,8 +1088,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
               const double reach = mine.radii[g] + other.feather->radii[other.group] + gap;
               if ((other.feather->centers[other.group] - c).squaredNorm() > reach * reach) continue;
             }
+            if (witness.pair && witness.group == g && witness.candidate == k) continue;  // tried first
             if (pair_conflict(turn, g, k)) {
-              witness = {1, g, k, 0};
+              witness.pair = true;
+              witness.group = g;
+              witness.candidate = k;
               return blocked();
             }
           }
@@ -995,15 +1101,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // there, excepted as the root disc is). Last: the triangle tests above are cheaper.
         if (skin && turned)
           for (int64_t x = v0; x < v1; ++x)
-            if (below_skin(angle, scale, turn, x)) {
-              witness = {2, 0, 0, x};
+            if (!(witness.below && witness.vertex == x) && below_skin(angle, scale, turn, x)) {
+              witness.below = true;
+              witness.vertex = x;
               return blocked();
             }
         if (r_clear) *r_clear = 1;
         if (under_test)
           for (size_t k = 0; k < outward.size(); ++k)
-            if (under_lower(turn, k)) {
-              witness = {3, 0, 0, int64_t(k)};
+            if (!(witness.under && witness.outward == k) && under_lower(turn, k)) {
+              witness.under = true;
+              witness.outward = k;
               return true;
             }
         return false;
@@ -1075,12 +1183,29 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         if (angle > 0.0) turn_by(angle);
       };
       // How many lower feathers are over it at `angle`, counted up to `enough` (no more is asked).
+      // The vertices (places in `outward`) under a lower feather at the last count are asked first, so
+      // that a count reaching `enough` stops sooner; below `enough` every vertex is asked, and the
+      // count is the same in any order (each lower feather over it counts once).
       std::vector<char> over(lower.size());
+      std::vector<size_t> last_under, now_under;
+      std::vector<size_t> counted_in(outward.size(), SIZE_MAX);  // the count that asked a vertex
+      size_t counts = 0;
       auto under_count = [&](double angle, std::ptrdiff_t enough) {
         std::fill(over.begin(), over.end(), char(0));
         const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+        ++counts;
+        now_under.clear();
         std::ptrdiff_t count = 0;
-        for (size_t k = 0; k < outward.size() && count < enough; ++k) count += under_lower(turn, k, &over);
+        const auto ask = [&](size_t k) {
+          counted_in[k] = counts;
+          const std::ptrdiff_t marked = under_lower(turn, k, &over);
+          if (marked > 0) now_under.push_back(k);
+          count += marked;
+        };
+        for (size_t m = 0; m < last_under.size() && count < enough; ++m) ask(last_under[m]);
+        for (size_t k = 0; k < outward.size() && count < enough; ++k)
+          if (counted_in[k] != counts) ask(k);
+        last_under.swap(now_under);
         return count;
       };
       constexpr double kStep = 0.02;  // radians, about 1.1 degrees
@@ -1092,38 +1217,82 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // every lower feather's vanes by the offset, out of the skin and from under every lower feather.
       // A yaw and a turn move it rigidly about its root, so it stays within its extent of it and meets
       // only the lower feathers placed before it. Found: the feather ends there, and true; none: false,
-      // nothing changed. Tested without the shortcuts of the turns about the axis (every lower
-      // feather's boxes, then its triangles; every lower feather for the way out).
+      // nothing changed. Tested without the shortcuts of the turns about the axis, with those of any
+      // move about the root (clear_moved).
       std::vector<Vec> aside_vertices;
       bool counted_under = false;  // whether the feather was counted in left_under
-      std::vector<int32_t> all_lower(lower.size());
-      for (size_t l = 0; l < lower.size(); ++l) all_lower[l] = int32_t(l);
-      // The lower feather whose vanes met the last move tested (the next is near): tried first.
-      size_t aside_witness = SIZE_MAX;
+      // A yaw and a turn move the feather rigidly about its root: each point keeps its distance from
+      // it. So only the lower feathers whose vanes' boxes come within the feather's extent plus the
+      // gap of its root (with the slack for rounding) can meet it (`aside_near`, places in `lower`,
+      // ascending), and a vertex of mine can lie under a lower feather only when its distance from the
+      // root and that of the lower vanes' bounding sphere's center differ by at most the sphere's
+      // radius plus the lower extent: per vertex in `outward`, the lower feathers that pass,
+      // ascending, from aside_under_first[k]. Built on the first move tested; every test they skip
+      // is one the full test rejects, so the answers are the same.
+      std::vector<size_t> aside_near;
+      std::vector<int32_t> aside_under;
+      std::vector<size_t> aside_under_first;
+      auto aside_candidates = [&] {
+        for (size_t l = 0; l < lower.size(); ++l)
+          if (lower[l]->box.exteriorDistance(mine.root) <= mine.extent + gap + slack) aside_near.push_back(l);
+        aside_under_first.assign(1, 0);
+        std::vector<double> lower_from_root(lower.size());
+        for (size_t l = 0; l < lower.size(); ++l) lower_from_root[l] = (lower_centers[l] - mine.root).norm();
+        for (const int64_t x : outward) {
+          const double from_root = (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root).norm();
+          for (size_t l = 0; l < lower.size(); ++l)
+            if (std::abs(lower_from_root[l] - from_root) <= lower[l]->extent + lower_radii[l] + slack)
+              aside_under.push_back(int32_t(l));
+          aside_under_first.push_back(aside_under.size());
+        }
+      };
+      // The lower feather whose vanes met the last move tested (the next is near): tried first. So are
+      // the vertex last found below the skin and the vertex (its place in `outward`) last found under
+      // a lower feather.
+      size_t aside_witness = SIZE_MAX, aside_below = SIZE_MAX, aside_under_witness = SIZE_MAX;
       std::vector<Triangle> aside_triangles(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> aside_boxes(mine.triangles.size());
       std::vector<Eigen::AlignedBox3d> aside_group_boxes(mine.group_boxes.size());
+      std::vector<size_t> aside_turned_in(mine.group_boxes.size(), SIZE_MAX);  // the move that turned a group
+      // Per group, the box of its bounding sphere moved (a group's triangles lie in it), and of them all.
+      std::vector<Eigen::AlignedBox3d> aside_sphere_boxes(mine.group_boxes.size());
+      size_t aside_call = 0;
       // Per vertex, where the skin was last asked for it by a move and its signed distance there.
       std::vector<std::pair<Vec, double>> aside_known;
       auto clear_moved = [&](const Eigen::Matrix3d &move) {
+        if (aside_under_first.empty()) aside_candidates();
+        ++aside_call;
         const auto moved_point = [&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); };
         Eigen::AlignedBox3d all;
-        for (Eigen::AlignedBox3d &box : aside_group_boxes) box.setEmpty();
-        for (size_t t = 0; t < mine.triangles.size(); ++t) {
-          aside_boxes[t].setEmpty();
-          for (size_t v = 0; v < 3; ++v) {
-            aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
-            aside_boxes[t].extend(aside_triangles[t][v]);
-          }
-          aside_group_boxes[t / kGroup].extend(aside_boxes[t]);
-          all.extend(aside_boxes[t]);
+        for (size_t m = 0; m < mine.centers.size(); ++m) {
+          const Vec c = moved_point(mine.centers[m]);
+          const double r = mine.radii[m] * (1.0 + 1e-9) + slack;
+          aside_sphere_boxes[m] = Eigen::AlignedBox3d(c.array() - r, c.array() + r);
+          all.extend(aside_sphere_boxes[m]);
         }
-        // Pairs of groups first (a triangle's box lies in its group's, so a pair of triangles whose
-        // groups' boxes are apart is apart too).
+        // A group of mine is moved when first tested.
+        const auto move_group = [&](size_t m) {
+          if (aside_turned_in[m] == aside_call) return;
+          aside_turned_in[m] = aside_call;
+          aside_group_boxes[m].setEmpty();
+          const size_t end = std::min(mine.triangles.size(), m * kGroup + kGroup);
+          for (size_t t = m * kGroup; t < end; ++t) {
+            aside_boxes[t].setEmpty();
+            for (size_t v = 0; v < 3; ++v) {
+              aside_triangles[t][v] = moved_point(mine.triangles[t][v]);
+              aside_boxes[t].extend(aside_triangles[t][v]);
+            }
+            aside_group_boxes[m].extend(aside_boxes[t]);
+          }
+        };
+        // A triangle's box lies in its group's, so a pair of triangles whose groups' boxes are apart is
+        // apart too.
         const auto vanes_meet = [&](size_t l) {
           const FeatherVanes &f = *lower[l];
           if (apart(all, f.box)) return false;
-          for (size_t m = 0; m < aside_group_boxes.size(); ++m) {
+          for (size_t m = 0; m < mine.centers.size(); ++m) {
+            if (apart(aside_sphere_boxes[m], f.box)) continue;
+            move_group(m);
             if (apart(aside_group_boxes[m], f.box)) continue;
             const size_t mine_end = std::min(aside_triangles.size(), m * kGroup + kGroup);
             for (size_t g = 0; g < f.group_boxes.size(); ++g) {
@@ -1139,34 +1308,60 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           }
           return false;
         };
-        if (aside_witness != SIZE_MAX && vanes_meet(aside_witness)) return false;
-        for (size_t l = 0; l < lower.size(); ++l)
-          if (l != aside_witness && vanes_meet(l)) {
-            aside_witness = l;
-            return false;
-          }
         aside_vertices.resize(size_t(v1 - v0));
         if (closed_skin && aside_known.empty()) aside_known.assign(size_t(v1 - v0), {Vec::Zero(), -1.0});
-        for (int64_t x = v0; x < v1; ++x) {
+        const auto below = [&](int64_t x) {
           const Vec p = r_frame.vanes.positions[size_t(x)].cast<double>();
-          const Vec &q = aside_vertices[size_t(x - v0)] = moved_point(p);
-          if (!skin || (p - mine.root).norm() <= double(options.root_disc) * mine.extent) continue;
+          if ((p - mine.root).norm() <= double(options.root_disc) * mine.extent) return false;
+          const Vec &q = aside_vertices[size_t(x - v0)];
           // On a closed skin, a vertex that has not moved as far as it was from the skin the last
           // time it was asked here is still out (as below_skin's bound).
           if (closed_skin) {
             auto &[last, distance] = aside_known[size_t(x - v0)];
-            if (distance > (q - last).norm() + skin_slack) continue;
+            if (distance > (q - last).norm() + skin_slack) return false;
             last = q;
             distance = skin_distance(q, mine_skin[size_t(x - v0)]);
-            if (distance < 0.0) return false;
-          } else if (skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0) {
+            return distance < 0.0;
+          }
+          return skin_distance(q, mine_skin[size_t(x - v0)]) < 0.0;
+        };
+        const auto under = [&](size_t k) {
+          const int64_t x = outward[k];
+          const int32_t *list = aside_under.data();
+          return under_lower_at(aside_vertices[size_t(x - v0)], x, list + aside_under_first[k],
+                                list + aside_under_first[k + 1], nullptr) != 0;
+        };
+        const auto move_vertex = [&](int64_t x) {
+          aside_vertices[size_t(x - v0)] = moved_point(r_frame.vanes.positions[size_t(x)].cast<double>());
+        };
+        // The three tests must all pass: the last conflict of each kind is tried first, whichever
+        // kind met last (a move clear of the vanes is often still under a lower feather).
+        if (aside_witness != SIZE_MAX && vanes_meet(aside_witness)) return false;
+        if (skin && aside_below != SIZE_MAX) {
+          move_vertex(int64_t(aside_below));
+          if (below(int64_t(aside_below))) return false;
+        }
+        if (aside_under_witness != SIZE_MAX) {
+          move_vertex(outward[aside_under_witness]);
+          if (under(aside_under_witness)) return false;
+        }
+        for (const size_t l : aside_near)
+          if (l != aside_witness && vanes_meet(l)) {
+            aside_witness = l;
             return false;
           }
-        }
-        for (const int64_t x : outward)
-          if (under_lower_at(aside_vertices[size_t(x - v0)], x, all_lower.data(), all_lower.data() + all_lower.size(),
-                             nullptr))
+        for (int64_t x = v0; x < v1; ++x) move_vertex(x);
+        if (skin)
+          for (int64_t x = v0; x < v1; ++x)
+            if (size_t(x) != aside_below && below(x)) {
+              aside_below = size_t(x);
+              return false;
+            }
+        for (size_t k = 0; k < outward.size(); ++k)
+          if (k != aside_under_witness && under(k)) {
+            aside_under_witness = k;
             return false;
+          }
         return true;
       };
       // The move of a feather turned aside: the yaw about the skin normal, then the turn about the axis

@@ -27,6 +27,46 @@ constexpr int32_t span_pieces = 8;
 /// than by walking the search grid.
 constexpr size_t all_spans_limit = 4096;
 
+using Float = skin::Lanes<lanes>::Float;
+
+/// Lanes of N fields of packed records of `stride` floats: lane l of r_fields[k] is
+/// records[ids[l] * stride + k] (`lanes` ids; N a multiple of the lanes). Each record's fields are
+/// loaded as vectors and transposed, not gathered: gathers are slow where the processor's microcode
+/// guards them.
+template <int N>
+[[gnu::always_inline]] inline void gather_lanes(const float *records, int stride, const int32_t *ids,
+                                                Float (&r_fields)[N]) {
+  static_assert(N % lanes == 0);
+  for (int k = 0; k < N; k += lanes) {
+#ifdef __AVX2__
+    __m256 row[8];
+    for (int l = 0; l < 8; ++l) row[l] = _mm256_loadu_ps(records + size_t(ids[l]) * size_t(stride) + size_t(k));
+    __m256 low[4], high[4];
+    for (int q = 0; q < 4; ++q) {
+      low[q] = _mm256_unpacklo_ps(row[2 * q], row[2 * q + 1]);
+      high[q] = _mm256_unpackhi_ps(row[2 * q], row[2 * q + 1]);
+    }
+    __m256 quad[8];
+    for (int h = 0; h < 2; ++h) {
+      quad[4 * h + 0] = _mm256_shuffle_ps(low[2 * h], low[2 * h + 1], _MM_SHUFFLE(1, 0, 1, 0));
+      quad[4 * h + 1] = _mm256_shuffle_ps(low[2 * h], low[2 * h + 1], _MM_SHUFFLE(3, 2, 3, 2));
+      quad[4 * h + 2] = _mm256_shuffle_ps(high[2 * h], high[2 * h + 1], _MM_SHUFFLE(1, 0, 1, 0));
+      quad[4 * h + 3] = _mm256_shuffle_ps(high[2 * h], high[2 * h + 1], _MM_SHUFFLE(3, 2, 3, 2));
+    }
+    for (int c = 0; c < 4; ++c) {
+      r_fields[k + c] = Float(_mm256_permute2f128_ps(quad[c], quad[4 + c], 0x20));
+      r_fields[k + 4 + c] = Float(_mm256_permute2f128_ps(quad[c], quad[4 + c], 0x31));
+    }
+#else
+    skin::Float4 row[4], column[4];
+    for (int l = 0; l < 4; ++l)
+      std::memcpy(&row[l], records + size_t(ids[l]) * size_t(stride) + size_t(k), sizeof(skin::Float4));
+    skin::transpose4(row, column);
+    for (int c = 0; c < 4; ++c) r_fields[k + c] = column[c];
+#endif
+  }
+}
+
 /// Distance from x to piece `p`. The parameter starts at the projection on the chord and takes three
 /// Newton steps on (c(t) - x) . c'(t) (a piece turns by a few degrees: the distance has one minimum
 /// on it), clamped to [0, 1]; the piece's end points are looked at too.
@@ -47,17 +87,6 @@ float distance_to_piece(const GuidePiece &p, const Eigen::Vector3f &x) {
   best = std::min({best, (p.a - x).squaredNorm(), (p.a + chord - x).squaredNorm()});
   return std::sqrt(best);
 }
-
-/// The piece's unit tangent at the parameter of x's projection on its chord, t0 = clamp((x - a) .
-/// axis / chord, 0, 1): continuous in x, equal to the guide's tangent at the piece's ends, and within
-/// about theta^3 / 24 of the tangent at the closest point for a piece turning by theta.
-Eigen::Vector3f chord_tangent(const GuidePiece &p, const Eigen::Vector3f &x) {
-  const float t = p.chord > 0.0f ? std::clamp((x - p.a).dot(p.axis) / p.chord, 0.0f, 1.0f) : 0.0f;
-  const Eigen::Vector3f first = p.b + t * (2.0f * p.c + 3.0f * t * p.d);
-  const float norm = first.norm();
-  return norm > 0.0f ? Eigen::Vector3f(first / norm) : p.axis;
-}
-
 
 /// Cells of edge r_cell over a box of `extent`, per axis; the edge grows by half at a time until
 /// there are at most `limit`.
@@ -115,6 +144,8 @@ GuideField::GuideField(const StrandSet &guides, std::span<const int32_t> members
   for (const GuidePiece &p : pieces_) {
     capsules_.push_back({p.a.x(), p.a.y(), p.a.z(), p.axis.x(), p.axis.y(), p.axis.z(), p.chord, p.sag});
     balls_.push_back({p.centre, p.radius});
+    cubics_.push_back({p.a.x(), p.a.y(), p.a.z(), p.b.x(), p.b.y(), p.b.z(), p.c.x(), p.c.y(), p.c.z(), p.d.x(),
+                       p.d.y(), p.d.z(), p.axis.x(), p.axis.y(), p.axis.z(), p.chord});
   }
 
   // Spans: runs of up to span_pieces consecutive pieces of one guide, each in a ball holding its
@@ -310,13 +341,14 @@ Eigen::Vector3i GuideField::cell_of(const Eigen::Vector3f &p) const {
   return c;
 }
 
-void GuideField::piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers) const {
+void GuideField::piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers,
+                              float *r_chords) const {
   // A lower bound of the distance from x to a piece: to its chord, less the sag, lane by lane with
   // Eigen's arithmetic for 3-vectors (a dot product is x0 y0 + (x1 y1 + x2 y2)): the same to the bit
   // as the scalar form. The last lanes repeat the last piece.
   constexpr int W = lanes;
-  using Float = skin::Lanes<W>::Float;
   const Float px = Float{} + x.x(), py = Float{} + x.y(), pz = Float{} + x.z(), zero = Float{};
+  const float *records = reinterpret_cast<const float *>(capsules_.data());
   for (size_t e = 0; e < count; e += W) {
     const bool full = e + W <= count;
     alignas(32) int32_t ids[W];
@@ -324,27 +356,24 @@ void GuideField::piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, s
       std::memcpy(ids, pieces + e, sizeof(ids));
     else
       for (int l = 0; l < W; ++l) ids[l] = pieces[std::min(e + size_t(l), count - 1)];
-    Float ax, ay, az, ux, uy, uz, chord, sag;
-    for (int l = 0; l < W; ++l) {
-      const Capsule &c = capsules_[size_t(ids[l])];
-      ax[l] = c.ax;
-      ay[l] = c.ay;
-      az[l] = c.az;
-      ux[l] = c.ux;
-      uy[l] = c.uy;
-      uz[l] = c.uz;
-      chord[l] = c.chord;
-      sag[l] = c.sag;
-    }
+    Float fields[8];
+    gather_lanes(records, 8, ids, fields);
+    const Float &ax = fields[0], &ay = fields[1], &az = fields[2], &ux = fields[3], &uy = fields[4], &uz = fields[5],
+                &chord = fields[6], &sag = fields[7];
     const Float fx = px - ax, fy = py - ay, fz = pz - az;
     const Float dot = fx * ux + (fy * uy + fz * uz);
     const Float along = dot < zero ? zero : (chord < dot ? chord : dot);  // std::clamp
     const Float rx = fx - along * ux, ry = fy - along * uy, rz = fz - along * uz;
     const Float lower = skin::lane_sqrt(rx * rx + (ry * ry + rz * rz)) - sag;
-    if (full)
+    const Float chord_distance = lower + sag;
+    if (full) {
       std::memcpy(r_lowers + e, &lower, sizeof(lower));
-    else
+      if (r_chords) std::memcpy(r_chords + e, &chord_distance, sizeof(chord_distance));
+    } else {
       for (size_t l = 0; e + l < count; ++l) r_lowers[e + l] = lower[l];
+      if (r_chords)
+        for (size_t l = 0; e + l < count; ++l) r_chords[e + l] = chord_distance[l];
+    }
   }
 }
 
@@ -352,23 +381,19 @@ void GuideField::piece_distances(const Eigen::Vector3f &x, const int32_t *pieces
   // distance_to_piece() lane by lane, with its arithmetic in the same order (Eigen's for 3-vectors:
   // a sum of three is x0 + (x1 + x2)); a lane whose Newton step stops keeps its parameter.
   constexpr int W = lanes;
-  using Float = skin::Lanes<W>::Float;
   using Int = skin::Lanes<W>::Int;
   const Float zero = Float{}, one = Float{} + 1.0f;
   const Float px = zero + x.x(), py = zero + x.y(), pz = zero + x.z();
   const auto dot = [](Float ux, Float uy, Float uz, Float vx, Float vy, Float vz) { return ux * vx + (uy * vy + uz * vz); };
   const auto clamp01 = [&](Float v) { return v < zero ? zero : (one < v ? one : v); };
+  const float *records = reinterpret_cast<const float *>(cubics_.data());
   for (size_t e = 0; e < count; e += W) {
-    Float a[3], b[3], c[3], d[3];
-    for (int l = 0; l < W; ++l) {
-      const GuidePiece &p = pieces_[size_t(pieces[std::min(e + size_t(l), count - 1)])];
-      for (int k = 0; k < 3; ++k) {
-        a[k][l] = p.a[k];
-        b[k][l] = p.b[k];
-        c[k][l] = p.c[k];
-        d[k][l] = p.d[k];
-      }
-    }
+    alignas(32) int32_t ids[W];
+    for (int l = 0; l < W; ++l) ids[l] = pieces[std::min(e + size_t(l), count - 1)];
+    Float fields[16];
+    gather_lanes(records, 16, ids, fields);
+    const Float a[3] = {fields[0], fields[1], fields[2]}, b[3] = {fields[3], fields[4], fields[5]},
+                c[3] = {fields[6], fields[7], fields[8]}, d[3] = {fields[9], fields[10], fields[11]};
     Float chord[3], from[3];
     for (int k = 0; k < 3; ++k) {
       chord[k] = b[k] + c[k] + d[k];
@@ -408,11 +433,46 @@ void GuideField::piece_distances(const Eigen::Vector3f &x, const int32_t *pieces
   }
 }
 
+void GuideField::piece_tangents(const Eigen::Vector3f &x, const int32_t *pieces, const float *fractions, size_t count,
+                                float *r_shares, float *r_x, float *r_y, float *r_z) const {
+  // Lane by lane, fade() and the unit tangent with their scalar arithmetic in the same order
+  // (Eigen's for 3-vectors: a sum of three is x0 + (x1 + x2); a vector over a scalar is a division
+  // per component): the same bits. The last lanes repeat the last piece.
+  constexpr int W = lanes;
+  const Float zero = Float{}, one = Float{} + 1.0f;
+  const Float px = zero + x.x(), py = zero + x.y(), pz = zero + x.z();
+  const float *records = reinterpret_cast<const float *>(cubics_.data());
+  for (size_t e = 0; e < count; e += W) {
+    alignas(32) int32_t ids[W];
+    Float u;
+    for (int l = 0; l < W; ++l) {
+      const size_t at = std::min(e + size_t(l), count - 1);
+      ids[l] = pieces[at];
+      u[l] = fractions[at];
+    }
+    const Float share = u <= zero ? one : (u >= one ? zero : one - u * u * (3.0f - 2.0f * u));  // fade()
+    Float fields[16];
+    gather_lanes(records, 16, ids, fields);
+    const Float fx = px - fields[0], fy = py - fields[1], fz = pz - fields[2];
+    const Float &ux = fields[12], &uy = fields[13], &uz = fields[14], &chord = fields[15];
+    const Float along = (fx * ux + (fy * uy + fz * uz)) / chord;
+    const Float t = chord > zero ? (along < zero ? zero : (one < along ? one : along)) : zero;  // std::clamp
+    Float first[3];
+    for (int k = 0; k < 3; ++k) first[k] = fields[3 + k] + t * (2.0f * fields[6 + k] + (3.0f * t) * fields[9 + k]);
+    const Float norm = skin::lane_sqrt(first[0] * first[0] + (first[1] * first[1] + first[2] * first[2]));
+    const Float unit_x = norm > zero ? first[0] / norm : ux, unit_y = norm > zero ? first[1] / norm : uy,
+                unit_z = norm > zero ? first[2] / norm : uz;
+    std::memcpy(r_shares + e, &share, sizeof(Float));
+    std::memcpy(r_x + e, &unit_x, sizeof(Float));
+    std::memcpy(r_y + e, &unit_y, sizeof(Float));
+    std::memcpy(r_z + e, &unit_z, sizeof(Float));
+  }
+}
+
 float GuideField::span_distances(const Eigen::Vector3f &x, std::vector<float> &r_distances) const {
   // As Eigen's (x - centre).norm() for a 3-vector: dx^2 + (dy^2 + dz^2), the same to the bit; the
   // least of distance + radius is the same whichever order it is taken in.
   constexpr int W = lanes;
-  using Float = skin::Lanes<W>::Float;
   const size_t count = spans_.size();
   r_distances.resize(count);
   const float *sx = span_x_.data(), *sy = span_y_.data(), *sz = span_z_.data(), *sr = span_radius_.data();
@@ -443,7 +503,6 @@ float GuideField::span_distances(const Eigen::Vector3f &x, std::vector<float> &r
 
 void GuideField::spans_within(const std::vector<float> &distances, float radius, std::vector<int32_t> &r_found) const {
   constexpr int W = lanes;
-  using Float = skin::Lanes<W>::Float;
   const size_t count = spans_.size();
   const float *sr = span_radius_.data();
   const Float reach = Float{} + radius;
@@ -620,131 +679,138 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
   if (cache.near.size() < candidates.pieces.size()) {
     cache.near.resize(candidates.pieces.size());
     cache.measured_lower.resize(candidates.pieces.size());
+    cache.measured_chord.resize(candidates.pieces.size());
   }
   Cache::Near *near = cache.near.data();
   size_t count = 0;
   const float moved = (x - candidates.centre).norm();
   float upper = INFINITY;
   for (const Candidates::Guide &g : candidates.guides) upper = std::min(upper, g.upper + moved);
-  // One guide's pieces into `near`; returns the guide's distance.
-  // One guide's pieces into `near`; returns the slot of least lower bound.
+  // One guide's pieces into `near`, its slots and its slot of least lower bound into a group.
   const auto list = [&](const Candidates::Guide &g) {
-    const size_t first = count;
-    size_t best = first;
+    Cache::Group group{g.guide, count, count, count, INFINITY, INFINITY, INFINITY};
     // A piece whose bound keeps it beyond coil_reach times the guide's nearest chord (at most its
     // distance plus the largest sag) takes no share and cannot be the nearest: it is left out.
     const float skip = shape_.coil_reach * (g.upper + moved + max_sag_) + moved + 1e-6f * cell_;
     // (The bounds are computed lanes at a time for all the guide's listed pieces: a few more.)
     const int32_t *listed = candidates.pieces.data() + g.begin;
-    float *lowers = cache.measured_lower.data();
-    piece_lowers(x, listed, size_t(g.end - g.begin), lowers);
+    const float *listed_lower = candidates.piece_lower.data() + g.begin;
+    float *lowers = cache.measured_lower.data(), *chords = cache.measured_chord.data();
+    piece_lowers(x, listed, size_t(g.end - g.begin), lowers, chords);
+    size_t best = count;
+    float best_lower = INFINITY, chord_min = INFINITY;
     for (int32_t e = 0; e < g.end - g.begin; ++e) {
-      if (candidates.piece_lower[size_t(g.begin + e)] > skip) continue;
-      const float lower = lowers[e];
-      near[count] = {g.guide, listed[e], lower, INFINITY, lower + capsules_[size_t(listed[e])].sag};
-      if (near[count].lower < near[best].lower) best = count;
+      if (listed_lower[e] > skip) continue;
+      near[count] = {listed[e], lowers[e], INFINITY, chords[e]};
+      if (count == group.begin || lowers[e] < best_lower) {
+        best = count;
+        best_lower = lowers[e];
+      }
+      chord_min = std::min(chord_min, chords[e]);
       ++count;
     }
-    return best;
+    group.end = count;
+    group.best = best;
+    group.chord_min = chord_min;
+    return group;
   };
   // The guide's distance: the exact distance to the piece of least lower bound, then to every piece
   // whose bound lies below it (a piece whose bound is not below the best found cannot be nearer:
   // computing it or not leaves the smallest the same).
   const auto measure = [&](const Candidates::Guide &g) {
-    const size_t first = count;
-    const size_t best = list(g);
-    float distance = distance_to_piece(pieces_[size_t(near[best].piece)], x);
-    near[best].distance = distance;
-    for (size_t j = first; j < count; ++j) {
+    Cache::Group group = list(g);
+    float distance = distance_to_piece(pieces_[size_t(near[group.best].piece)], x);
+    near[group.best].distance = distance;
+    for (size_t j = group.begin; j < group.end; ++j) {
       Cache::Near &n = near[j];
-      if (j == best || !(n.lower < distance)) continue;
+      if (j == group.best || !(n.lower < distance)) continue;
       n.distance = distance_to_piece(pieces_[size_t(n.piece)], x);
       distance = std::min(distance, n.distance);
     }
-    return distance;
+    group.distance = distance;
+    return group;
   };
   // Without attenuation a guide weighs nothing beyond reach times (the nearest guide's distance plus
   // the floor), so the guide of least bound is measured first and its distance tightens the limit:
   // the guides skipped for it would have had no weight, and the answer is the same to the bit.
-  // Its pieces stay first in `near`; its group is put in its place in guide order below.
+  // Its group is put in its place in guide order below.
   const Candidates::Guide *first = nullptr;
+  Cache::Group first_group{};
   if (!attenuation) {
     for (const Candidates::Guide &g : candidates.guides)
       if (g.begin != g.end && (!first || g.lower < first->lower)) first = &g;
-    if (first) upper = std::min(upper, measure(*first));
+    if (first) {
+      first_group = measure(*first);
+      upper = std::min(upper, first_group.distance);
+    }
   }
-  const size_t first_count = count;
   const float guide_limit = shape_.reach * (upper + shape_.floor);
-  // The other guides within the limit, their exact distances lanes at a time across the guides:
-  // first each guide's piece of least bound, then every piece whose bound is below that distance.
-  std::vector<Cache::Pending> &batch = cache.pending;
-  batch.clear();
+  // The other guides within the limit, in guide order, their exact distances lanes at a time across
+  // the guides: first each guide's piece of least bound, then every piece whose bound is below that
+  // distance. Each guide's distance d_g is the smallest of its pieces'.
+  std::vector<Cache::Group> &groups = cache.groups;
+  groups.clear();
   for (const Candidates::Guide &g : candidates.guides) {
     if (&g == first || g.lower - moved >= guide_limit || g.begin == g.end) continue;
-    const size_t begin = count, best = list(g);
-    if (count > begin) batch.push_back({begin, count, best});
+    const Cache::Group group = list(g);
+    if (group.end > group.begin) groups.push_back(group);
   }
   std::vector<int32_t> &ids = cache.ids;
   std::vector<size_t> &slots = cache.slots;
   ids.clear();
-  slots.clear();
-  for (const Cache::Pending &guide : batch) {
-    slots.push_back(guide.best);
-    ids.push_back(near[guide.best].piece);
-  }
+  for (const Cache::Group &group : groups) ids.push_back(near[group.best].piece);
   cache.distances_out.resize(std::max(cache.distances_out.size(), ids.size()));
   piece_distances(x, ids.data(), ids.size(), cache.distances_out.data());
-  for (size_t k = 0; k < slots.size(); ++k) near[slots[k]].distance = cache.distances_out[k];
+  for (size_t k = 0; k < groups.size(); ++k)
+    near[groups[k].best].distance = groups[k].distance = cache.distances_out[k];
   ids.clear();
   slots.clear();
-  for (const Cache::Pending &guide : batch) {
-    const float distance = near[guide.best].distance;
-    for (size_t j = guide.begin; j < guide.end; ++j)
-      if (j != guide.best && near[j].lower < distance) {
+  for (const Cache::Group &group : groups) {
+    const float distance = group.distance;
+    for (size_t j = group.begin; j < group.end; ++j)
+      if (j != group.best && near[j].lower < distance) {
         slots.push_back(j);
         ids.push_back(near[j].piece);
       }
   }
   cache.distances_out.resize(std::max(cache.distances_out.size(), ids.size()));
   piece_distances(x, ids.data(), ids.size(), cache.distances_out.data());
-  for (size_t k = 0; k < slots.size(); ++k) near[slots[k]].distance = cache.distances_out[k];
-  // Per guide (pieces come grouped by guide, the first guide's before the others): its distance
-  // d_g, the smallest of its pieces', and its effective distance, d_g / factor with an attenuation;
-  // the nearest of both. Then the first guide's group is moved to its place in guide order.
+  for (size_t k = 0, g = 0; k < slots.size(); ++k) {
+    while (slots[k] >= groups[g].end) ++g;
+    near[slots[k]].distance = cache.distances_out[k];
+    groups[g].distance = std::min(groups[g].distance, cache.distances_out[k]);
+  }
+  // The first guide's group in its place in guide order; per guide its effective distance, d_g /
+  // factor with an attenuation; the nearest of both.
+  if (first && first_group.end > first_group.begin) {
+    size_t place = 0;
+    while (place < groups.size() && groups[place].guide < first->guide) ++place;
+    groups.insert(groups.begin() + ptrdiff_t(place), first_group);
+  }
   float nearest = INFINITY, nearest_effective = INFINITY;
-  std::vector<Cache::Group> &groups = cache.groups;
-  groups.clear();
-  const auto add_groups = [&](size_t from, size_t to) {
-    for (size_t begin = from; begin < to;) {
-      size_t end = begin;
-      float distance = INFINITY;
-      for (; end < to && near[end].guide == near[begin].guide; ++end) distance = std::min(distance, near[end].distance);
-      float counted = distance;
-      if (attenuation && distance < INFINITY) {
-        const float factor = attenuation->factor(near[begin].guide);
-        counted = factor > 0.0f ? distance / factor : INFINITY;
-      }
-      groups.push_back({begin, end, distance, counted});
-      nearest = std::min(nearest, distance);
-      nearest_effective = std::min(nearest_effective, counted);
-      begin = end;
+  for (Cache::Group &group : groups) {
+    group.counted = group.distance;
+    if (attenuation && group.distance < INFINITY) {
+      const float factor = attenuation->factor(group.guide);
+      group.counted = factor > 0.0f ? group.distance / factor : INFINITY;
     }
-  };
-  add_groups(0, first_count);
-  const size_t first_groups = groups.size();
-  add_groups(first_count, count);
-  if (first_groups > 0) {
-    size_t place = first_groups;
-    while (place < groups.size() && near[groups[place].begin].guide < first->guide) ++place;
-    std::rotate(groups.begin(), groups.begin() + ptrdiff_t(first_groups), groups.begin() + ptrdiff_t(place));
+    nearest = std::min(nearest, group.distance);
+    nearest_effective = std::min(nearest_effective, group.counted);
   }
   sample.nearest = nearest;
   const float hit = 1e-6f * cell_;
   // The floor at x: it grows from 0 on a guide to its full value (FieldShape::floor_slope).
   const float floor_here = std::min(shape_.floor, shape_.floor_slope * nearest_effective);
   const bool on_guide = nearest <= hit;
-  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-  float total = 0.0f;
+  // Per weighing guide: its weight and its pieces with a share, in order, each with u = e_j - e_min
+  // over the span (its share fade(u)); the shares and unit tangents are computed lanes at a time over
+  // all of them, then added guide by guide in the same order as one guide at a time.
+  std::vector<int32_t> &shared = cache.ids;
+  std::vector<float> &fractions = cache.fractions;
+  std::vector<Cache::Weighing> &weighing = cache.weighing;
+  shared.clear();
+  fractions.clear();
+  weighing.clear();
   for (const Cache::Group &group : groups) {
     const size_t begin = group.begin, end = group.end;
     const float distance = group.distance;
@@ -754,26 +820,39 @@ GuideField::Sample GuideField::evaluate(const Eigen::Vector3f &x, Cache &cache,
     const float weight = on_guide ? (distance <= hit ? 1.0f : 0.0f)
                                   : (counted < INFINITY ? fade(counted / (nearest_effective + floor_here) - (shape_.reach - 1.0f)) / counted
                                                         : 0.0f);
-    if (weight > 0.0f) {
-      // The guide's tangent: its pieces' chord tangents, each faded as its chord lies farther than
-      // the guide's nearest chord (e_j against e_min, continuous in x; on the guide the piece under
-      // x has the nearest chord).
-      float chord_min = INFINITY;
-      for (size_t j = begin; j < end; ++j) chord_min = std::min(chord_min, near[j].chord_distance);
-      const float span = (shape_.coil_reach - 1.0f) * chord_min + hit;
-      Eigen::Vector3f tangent = Eigen::Vector3f::Zero();
-      for (size_t j = begin; j < end; ++j) {
-        // A chord at least `span` beyond the nearest has u >= 1 (rounding keeps it so): no share.
-        const float beyond = near[j].chord_distance - chord_min;
-        if (beyond >= span) continue;
-        const float share = fade(beyond / span);
-        if (share > 0.0f) tangent += share * chord_tangent(pieces_[size_t(near[j].piece)], x);
-      }
-      const float norm = tangent.norm();
-      if (norm > 0.0f) {
-        sum += (weight / norm) * tangent;
-        total += weight;
-      }
+    if (!(weight > 0.0f)) continue;
+    // The guide's tangent: its pieces' chord tangents, each faded as its chord lies farther than
+    // the guide's nearest chord (e_j against e_min, continuous in x; on the guide the piece under
+    // x has the nearest chord).
+    const float chord_min = group.chord_min;
+    const float span = (shape_.coil_reach - 1.0f) * chord_min + hit;
+    const size_t first_share = shared.size();
+    for (size_t j = begin; j < end; ++j) {
+      // A chord at least `span` beyond the nearest has u >= 1 (rounding keeps it so): no share.
+      const float beyond = near[j].chord_distance - chord_min;
+      if (beyond >= span) continue;
+      shared.push_back(near[j].piece);
+      fractions.push_back(beyond / span);
+    }
+    weighing.push_back({weight, first_share, shared.size()});
+  }
+  const size_t padded = (shared.size() + lanes - 1) / lanes * lanes;
+  for (std::vector<float> *v : {&cache.shares, &cache.unit_x, &cache.unit_y, &cache.unit_z})
+    if (v->size() < padded) v->resize(padded);
+  piece_tangents(x, shared.data(), fractions.data(), shared.size(), cache.shares.data(), cache.unit_x.data(),
+                 cache.unit_y.data(), cache.unit_z.data());
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  float total = 0.0f;
+  for (const Cache::Weighing &w : weighing) {
+    Eigen::Vector3f tangent = Eigen::Vector3f::Zero();
+    for (size_t e = w.begin; e < w.end; ++e) {
+      const float share = cache.shares[e];
+      if (share > 0.0f) tangent += share * Eigen::Vector3f(cache.unit_x[e], cache.unit_y[e], cache.unit_z[e]);
+    }
+    const float norm = tangent.norm();
+    if (norm > 0.0f) {
+      sum += (w.weight / norm) * tangent;
+      total += w.weight;
     }
   }
   if (total > 0.0f) sample.direction = sum / total;

@@ -102,32 +102,38 @@ class GuideField {
     Candidates own;
     /// The listed pieces' distance bounds, and the closest points computed.
     struct Near {
-      int32_t guide;
       int32_t piece;
       float lower;           // a lower bound of the piece's distance (its capsule's)
       float distance;        // the exact distance, or infinity when not computed
       float chord_distance;  // the distance to the piece's chord
     };
     std::vector<Near> near;  // slots; an evaluation uses a prefix
-    /// Per measured guide: its pieces' range in `near`, its distance and its effective distance.
+    /// Per measured guide: its pieces' range in `near` and its slot of least bound, its distance, its
+    /// effective distance and its pieces' least chord distance.
     struct Group {
-      size_t begin, end;
-      float distance, counted;
+      int32_t guide;
+      size_t begin, end, best;
+      float distance, counted, chord_min;
     };
     std::vector<Group> groups;
-    /// Per guide listed in `near` whose exact distances are pending: its slots and its slot of
-    /// least bound.
-    struct Pending {
-      size_t begin, end, best;
-    };
-    std::vector<Pending> pending;
     std::vector<int32_t> order;
     std::vector<float> lowers;  // per piece, scratch for gathering and narrowing lists
     std::vector<float> distances;  // per span, for gathering lists
-    std::vector<float> measured_lower;  // one guide's listed pieces' bounds
-    std::vector<int32_t> ids;  // pieces whose exact distances are computed together, and their slots
+    /// One guide's listed pieces' bounds and chord distances.
+    std::vector<float> measured_lower, measured_chord;
+    /// Pieces whose exact distances are computed together, and their slots; then the pieces with a
+    /// share in their guide's tangent.
+    std::vector<int32_t> ids;
     std::vector<size_t> slots;
     std::vector<float> distances_out;
+    /// Per weighing guide, its weight and its pieces with a share: their range in `ids`, and per
+    /// piece its fade argument, its share and its unit tangent.
+    struct Weighing {
+      float weight;
+      size_t begin, end;
+    };
+    std::vector<Weighing> weighing;
+    std::vector<float> fractions, shares, unit_x, unit_y, unit_z;
     /// A shared list being made: its vectors keep their capacity, and the list published is an
     /// exact-size copy.
     Candidates making;
@@ -161,10 +167,19 @@ class GuideField {
   /// of the nearest guide's distance at x). `found`, `lowers` and `distances` are scratch.
   void gather(const Eigen::Vector3f &x, float valid, Candidates &r_candidates, std::vector<int32_t> &found,
               std::vector<float> &lowers, std::vector<float> &distances) const;
-  /// The capsule bounds at x of `pieces` (`count` indices) into r_lowers.
-  void piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers) const;
+  /// The capsule bounds at x of `pieces` (`count` indices) into r_lowers and, when r_chords is not
+  /// null, the distances to their chords (each bound plus its sag) into r_chords.
+  void piece_lowers(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_lowers,
+                    float *r_chords = nullptr) const;
   /// The exact distances from x to `pieces` (`count` indices) into r_distances, as distance_to_piece.
   void piece_distances(const Eigen::Vector3f &x, const int32_t *pieces, size_t count, float *r_distances) const;
+  /// Per piece j of `pieces` (`count` indices): its share fade(fractions[j]) into r_shares and its
+  /// unit tangent T_j into r_x, r_y, r_z (each array holding `count` rounded up to the lanes). T_j is
+  /// the tangent at the parameter of x's projection on the piece's chord, t0 = clamp((x - a) . axis
+  /// / chord, 0, 1): continuous in x, equal to the guide's tangent at the piece's ends, and within
+  /// about theta^3 / 24 of the tangent at the closest point for a piece turning by theta.
+  void piece_tangents(const Eigen::Vector3f &x, const int32_t *pieces, const float *fractions, size_t count,
+                      float *r_shares, float *r_x, float *r_y, float *r_z) const;
   /// Per span, the distance from x to its ball's centre; returns the least distance plus radius.
   float span_distances(const Eigen::Vector3f &x, std::vector<float> &r_distances) const;
   /// Appends, ascending, the spans whose ball's bound (distance less radius) is within `radius`.
@@ -195,6 +210,11 @@ class GuideField {
     float radius;
   };
   std::vector<Capsule> capsules_;
+  /// Per piece, its cubic (GuidePiece's a, b, c, d), axis and chord, packed for the lanes' loops.
+  struct Cubic {
+    float ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz, ux, uy, uz, chord;
+  };
+  std::vector<Cubic> cubics_;
   std::vector<Ball> balls_;
   float cell_ = 1.0f;
   float max_sag_ = 0.0f;  // the largest piece's sag

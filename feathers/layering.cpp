@@ -52,7 +52,11 @@ constexpr double kAsideTolerance = 1e-3;
 /// shaft's length; the bend at the tip, radians, positive toward the skin normal), the smallest change
 /// of shape, (1 - start) |bend|, first (down first): at most 0.4, so the tip moves by at most about a
 /// fifth of the feather's length.
-constexpr std::pair<double, double> kBends[] = {{0.2, -0.1}, {0.6, -0.2}, {0.2, 0.1}, {0.6, 0.2}, {0.4, -0.15}, {0.4, 0.15}, {0.2, -0.2}, {0.6, -0.4}, {0.2, 0.2}, {0.6, 0.4}, {0.4, -0.3}, {0.4, 0.3}, {0.2, -0.3}, {0.6, -0.6}, {0.2, 0.3}, {0.6, 0.6}, {0.4, -0.45}, {0.4, 0.45}, {0.2, -0.4}, {0.6, -0.8}, {0.2, 0.4}, {0.6, 0.8}, {0.4, -0.6}, {0.4, 0.6}, {0.2, -0.5}, {0.6, -1}, {0.2, 0.5}, {0.6, 1}};
+constexpr std::pair<double, double> kBends[] = {
+    {0.2, -0.1}, {0.6, -0.2}, {0.2, 0.1},  {0.6, 0.2},  {0.4, -0.15}, {0.4, 0.15}, {0.2, -0.2},
+    {0.6, -0.4}, {0.2, 0.2},  {0.6, 0.4},  {0.4, -0.3}, {0.4, 0.3},   {0.2, -0.3}, {0.6, -0.6},
+    {0.2, 0.3},  {0.6, 0.6},  {0.4, -0.45}, {0.4, 0.45}, {0.2, -0.4}, {0.6, -0.8}, {0.2, 0.4},
+    {0.6, 0.8},  {0.4, -0.6}, {0.4, 0.6},  {0.2, -0.5}, {0.6, -1.0},  {0.2, 0.5},  {0.6, 1.0}};
 
 /// The checker's root disc (check/vanes.h, OverlapOptions): vertices within this fraction of their
 /// feather's extent from its vane base cast no ray when the order reads which feather lies over which.
@@ -1523,7 +1527,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       const Vec bend_w = axis.cross(bend_u).normalized();
       double bend_length = 0.0;  // of the shaft, as far as the vanes reach along it
       for (int64_t x = v0; x < v1; ++x)
-        bend_length = std::max(bend_length, (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root).dot(bend_u));
+        bend_length =
+            std::max(bend_length, (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root).dot(bend_u));
       // Where the bend (from `start` of the shaft's length, by `bend` radians at its end), then the
       // turn by `angle` about the axis, take the point p (world). Curvature k over [from, bend_length]:
       // a point at (along, up) lies at the radius 1/k - up from the arc's center (from, 1/k), turned
@@ -1541,7 +1546,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         const Vec d = p - mine.root;
         const double along = d.dot(bend_u);
         if (along <= map.from) return Vec(mine.root + map.turn * d);
-        const double up = d.dot(bend_w), across = d.dot(axis), radius = 1.0 / map.k - up, phi = map.k * (along - map.from);
+        const double up = d.dot(bend_w), across = d.dot(axis);
+        const double radius = 1.0 / map.k - up, phi = map.k * (along - map.from);
         return Vec(mine.root + map.turn * ((map.from + radius * std::sin(phi)) * bend_u +
                                            (1.0 / map.k - radius * std::cos(phi)) * bend_w + across * axis));
       };
@@ -1578,10 +1584,12 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           unordered[i] = 1;
         }
       };
-      // The bends tried, the smallest change of shape ((1 - start) |bend|) first, or nearest the
-      // preferred one (the frame before's) first; with `out`, only a bend that takes the feather out
-      // from under every lower feather, else one clear of their vanes and the skin.
-      auto bend_aside = [&](double preferred_start, double preferred_bend, bool out) {
+      // Before a shrink (no turn or yaw keeps it clear of the lower vanes): the bends tried, the
+      // smallest change of shape ((1 - start) |bend|) first, or nearest the preferred one (the frame
+      // before's) first, each at the smallest turn that keeps it clear of the lower vanes and the skin
+      // (steps of kAsideStep, then bisection); the first out from under every lower feather there is
+      // taken, else the first found (left under). None: false, nothing changed.
+      auto bend_clear = [&](double preferred_start, double preferred_bend) {
         if (lower.empty() || !(bend_length > 0.0)) return false;
         std::array<std::pair<double, double>, std::size(kBends)> bends;
         std::copy(std::begin(kBends), std::end(kBends), bends.begin());
@@ -1590,12 +1598,12 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             return std::abs(a.first - preferred_start) + std::abs(a.second - preferred_bend) <
                    std::abs(b.first - preferred_start) + std::abs(b.second - preferred_bend);
           });
-        const bool under_too = out && !outward.empty();
+        double kept_angle = -1.0, kept_start = 0.0, kept_bend = 0.0;
         for (const auto &[start, bend] : bends) {
           double failing = -1.0, clearing = -1.0;
           for (double a = 0.0; a < max_angle + kAsideStep; a += kAsideStep) {
             const double at = std::min(a, max_angle);
-            if (clear_bent(at, start, bend, under_too)) {
+            if (clear_bent(at, start, bend, false)) {
               clearing = at;
               break;
             }
@@ -1604,18 +1612,29 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (clearing < 0.0) continue;
           if (failing >= 0.0)
             clearing = nearest_clear(clearing, failing, kAsideTolerance,
-                                     [&](double a) { return clear_bent(a, start, bend, under_too); });
-          end_bent(clearing, start, bend, out);
-          return true;
+                                     [&](double a) { return clear_bent(a, start, bend, false); });
+          if (outward.empty() || clear_bent(clearing, start, bend, true)) {
+            end_bent(clearing, start, bend, true);
+            return true;
+          }
+          if (kept_angle < 0.0) {
+            kept_angle = clearing;
+            kept_start = start;
+            kept_bend = bend;
+          }
         }
-        return false;
+        if (kept_angle < 0.0) return false;
+        end_bent(kept_angle, kept_start, kept_bend, false);
+        return true;
       };
-      // Left under: of the bends, each at the turns (steps of kAsideStep) that keep it clear of the
-      // lower vanes and the skin, the one under the fewest lower feathers, when fewer than `best` (a
-      // turn's): the feather ends there (left under), and true. With a warm start, the bend and turn
-      // of the frame before (`preferred_angle`) compete too, first: the feather stays there when that
-      // is under no more than `best`, unless another bend is under fewer.
-      auto bend_fewest = [&](double preferred_start, double preferred_bend, double preferred_angle,
+      // Left under: of the bends, each at the 2 kLocalSteps + 1 turns by steps of kAsideStep about
+      // `near` (the turn under the fewest; from no turn where it is lower) that keep it clear of the
+      // lower vanes and the skin, the one under the fewest lower feathers, when fewer than `best`
+      // (that turn's): the feather ends there (left under, or out when under none), and true. With a
+      // warm start, the bend and turn of the frame before (`preferred_angle`) compete too, first: the
+      // feather stays there when that is under no more than `best`, unless another bend is under
+      // fewer.
+      auto bend_fewest = [&](double preferred_start, double preferred_bend, double preferred_angle, double near,
                              std::ptrdiff_t best) {
         if (lower.empty() || outward.empty() || !(bend_length > 0.0)) return false;
         std::array<std::pair<double, double>, std::size(kBends)> bends;
@@ -1636,7 +1655,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           return count;
         };
         double best_angle = -1.0, best_start = 0.0, best_bend = 0.0;
-        if (preferred_bend != 0.0 && preferred_angle >= 0.0 && clear_bent(preferred_angle, preferred_start, preferred_bend, false)) {
+        if (preferred_bend != 0.0 && preferred_angle >= 0.0 &&
+            clear_bent(preferred_angle, preferred_start, preferred_bend, false)) {
           const std::ptrdiff_t count = count_over(best + 1);
           if (count <= best) {
             best = count;
@@ -1645,9 +1665,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             best_bend = preferred_bend;
           }
         }
+        const double lowest = std::max(near - kLocalSteps * kAsideStep, 0.0);
         for (const auto &[start, bend] : bends) {
-          for (double a = 0.0; a < max_angle + kAsideStep && best > 0; a += kAsideStep) {
-            const double at = std::min(a, max_angle);
+          for (int s = 0; s <= 2 * kLocalSteps && best > 0; ++s) {
+            const double at = std::min(lowest + s * kAsideStep, max_angle);
+            if (s > 0 && at == std::min(lowest + (s - 1) * kAsideStep, max_angle)) break;
             if (!clear_bent(at, start, bend, false)) continue;
             const std::ptrdiff_t count = count_over(best);
             if (count < best) {
@@ -1841,8 +1863,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (at == max_angle || best <= 1) break;
         }
         if (stay && above == from) {
-          if (!turn_aside(previous_yaw) && !bend_aside(previous_bend_start, previous_bend, true) &&
-              !bend_fewest(previous_bend_start, previous_bend, from, best))
+          if (!turn_aside(previous_yaw) && !bend_fewest(previous_bend_start, previous_bend, from, from, best))
             end_at(from);
           continue;
         }
@@ -1853,8 +1874,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             (worse(mid, best) ? below : above) = mid;
           }
         }
-        if (above >= 0.0 && (turn_aside(previous_yaw) || bend_aside(previous_bend_start, previous_bend, true) ||
-                             bend_fewest(previous_bend_start, previous_bend, from, best)))
+        if (above >= 0.0 &&
+            (turn_aside(previous_yaw) || bend_fewest(previous_bend_start, previous_bend, from, above, best)))
           continue;
       }
       if (above < 0.0) {
@@ -1862,8 +1883,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // else bent (out from under the lower feathers where a bend takes it out, else clear of their
         // vanes only: left under rather than shrunk), else, unturned, it is shrunk toward its root
         // until it clears (the largest such size), as the skin pass does.
-        if (turn_aside(previous_yaw) || bend_aside(previous_bend_start, previous_bend, true) ||
-            bend_aside(previous_bend_start, previous_bend, false))
+        if (turn_aside(previous_yaw) || bend_clear(previous_bend_start, previous_bend))
           continue;
         shrink_to(largest_clear_size(1.0));
         continue;

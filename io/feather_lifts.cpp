@@ -93,7 +93,8 @@ FeatherLifts read_feather_lifts(const std::string &path) {
     throw InputError(FileLoc{path}, "feather lifts: expected \"" + std::string(kHeader) + "\", got an empty file");
   while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
   if (rest != kHeader && rest != kHeaderVersion3 && rest != kHeaderVersion2 && rest != kHeaderVersion1)
-    cursor.fail("header: expected \"" + std::string(kHeader) + "\" (or version 3, 2 or 1), got " + detail::quoted(rest));
+    cursor.fail("header: expected \"" + std::string(kHeader) + "\" (or version 3, 2 or 1), got " +
+                detail::quoted(rest));
   const bool version1 = rest == kHeaderVersion1, version2 = rest == kHeaderVersion2,
              version3 = rest == kHeaderVersion3;
   FeatherLifts lifts;

@@ -124,8 +124,9 @@ struct LayeringStats {
   /// the skin normal, then a turn) until none is over them (counted in `lifted`, not in `left_under`).
   int64_t turned_aside = 0;
   /// Feathers neither a turn nor a yaw took out from under the lower ones (or clear of their vanes),
-  /// bent along their shaft and turned until the same tests pass (counted in `lifted`; in
-  /// `left_under` too when the bend keeps them clear of the lower vanes only, instead of a shrink).
+  /// bent along their shaft and turned so that the same tests pass (counted in `lifted`; in
+  /// `left_under` too, and named in `unordered`, when the bend leaves them under fewer lower
+  /// feathers than a turn, or keeps them clear of the lower vanes instead of a shrink).
   int64_t bent = 0;
   /// The feathers left under a lower one or shrunk (indices, ascending): a higher feather found
   /// under a lower one anywhere on the frame is one of these.
@@ -161,8 +162,9 @@ struct LayeringStats {
 /// yaw of the frame before first; a feather bent at the frame before keeps its bend and turn while
 /// they clear, the bend falling back toward none by at most options.fall_back rachis widths at its
 /// farthest point; a feather neither a turn nor a yaw takes out from under the lower ones is bent
-/// along its shaft (the smallest bend that, with a turn, takes it out), and one no turn or yaw keeps
-/// clear of the lower vanes is bent, where a bend does, before it is shrunk; a shrunk feather grows
+/// along its shaft where a bend, at turns near the one under the fewest, leaves it under fewer lower
+/// feathers (or none), and one no turn or yaw keeps clear of the lower vanes is bent, where a bend
+/// does, before it is shrunk; a shrunk feather grows
 /// back unturned by at most options.fall_back rachis widths per frame, and where its size no longer
 /// clears, takes the nearest size below that does; otherwise, the search above. Every answer passes the
 /// same tests as the search's, so the promise (no vane within the offset of a lower one, none below

@@ -145,6 +145,8 @@ io::FeatherLifts FeatherPipeline::lifts_record(int frame, const feathers::CoatSt
   lifts.layer_turns = state.layers.turns;
   lifts.layer_scales = state.layers.scales;
   lifts.layer_yaws = state.layers.yaws;
+  lifts.layer_bends = state.layers.bends;
+  lifts.layer_bend_starts = state.layers.bend_starts;
   return lifts;
 }
 
@@ -169,6 +171,10 @@ std::optional<feathers::CoatState> FeatherPipeline::read_cached_state(int frame)
     throw InputError(FileLoc{path}, "layer_yaw: the file holds no yaw of the feathers turned aside (version 2, "
                                     "written before the layering pass carried it; write it again with plume "
                                     "simulate)");
+  if (layered && lifts.layer_bends.empty())
+    throw InputError(FileLoc{path}, "layer_bend: the file holds no bend of the feathers bent (version 3, "
+                                    "written before the layering pass carried it; write it again with plume "
+                                    "simulate)");
   std::unordered_map<uint64_t, size_t> by_id;
   by_id.reserve(lifts.ids.size());
   for (size_t k = 0; k < lifts.ids.size(); ++k) by_id.emplace(lifts.ids[k], k);
@@ -182,6 +188,8 @@ std::optional<feathers::CoatState> FeatherPipeline::read_cached_state(int frame)
     state.layers.turns.resize(ids.size());
     state.layers.scales.resize(ids.size());
     state.layers.yaws.resize(ids.size());
+    state.layers.bends.resize(ids.size());
+    state.layers.bend_starts.resize(ids.size());
   }
   for (size_t i = 0; i < ids.size(); ++i) {
     const auto it = by_id.find(ids[i]);
@@ -199,6 +207,8 @@ std::optional<feathers::CoatState> FeatherPipeline::read_cached_state(int frame)
       state.layers.turns[i] = lifts.layer_turns[k];
       state.layers.scales[i] = lifts.layer_scales[k];
       state.layers.yaws[i] = lifts.layer_yaws[k];
+      state.layers.bends[i] = lifts.layer_bends[k];
+      state.layers.bend_starts[i] = lifts.layer_bend_starts[k];
     }
   }
   return state;

@@ -48,6 +48,16 @@ constexpr double kAsideYaws[] = {0.1, -0.1, 0.2, -0.2, 0.3, -0.3, 0.45, -0.45};
 constexpr double kAsideStep = 0.05;
 constexpr double kAsideTolerance = 1e-3;
 
+/// Bending (docs/feathers.md, "Bent"): the bends tried, as (where the bend starts, a fraction of the
+/// shaft's length; the bend at the tip, radians, positive toward the skin normal), the smallest change
+/// of shape, (1 - start) |bend|, first (down first): at most 0.4, so the tip moves by at most about a
+/// fifth of the feather's length.
+constexpr std::pair<double, double> kBends[] = {
+    {0.2, -0.1}, {0.6, -0.2}, {0.2, 0.1},  {0.6, 0.2},  {0.4, -0.15}, {0.4, 0.15}, {0.2, -0.2},
+    {0.6, -0.4}, {0.2, 0.2},  {0.6, 0.4},  {0.4, -0.3}, {0.4, 0.3},   {0.2, -0.3}, {0.6, -0.6},
+    {0.2, 0.3},  {0.6, 0.6},  {0.4, -0.45}, {0.4, 0.45}, {0.2, -0.4}, {0.6, -0.8}, {0.2, 0.4},
+    {0.6, 0.8},  {0.4, -0.6}, {0.4, 0.6},  {0.2, -0.5}, {0.6, -1.0},  {0.2, 0.5},  {0.6, 1.0}};
+
 /// The checker's root disc (check/vanes.h, OverlapOptions): vertices within this fraction of their
 /// feather's extent from its vane base cast no ray when the order reads which feather lies over which.
 constexpr double kCheckerRootDisc = 0.05;
@@ -577,6 +587,12 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
     throw InputError("feathers: the layering pass's state of the frame before holds " +
                      std::to_string(previous->yaws.size()) + " yaws, expected the coat's " + std::to_string(n) +
                      " feathers");
+  if (previous && (previous->bends.size() != previous->bend_starts.size() ||
+                   (!previous->bends.empty() && previous->bends.size() != n)))
+    throw InputError("feathers: the layering pass's state of the frame before holds " +
+                     std::to_string(previous->bends.size()) + " bends and " +
+                     std::to_string(previous->bend_starts.size()) + " bend starts, expected the coat's " +
+                     std::to_string(n) + " feathers");
   if (previous && warm.rachis_widths.size() != n)
     throw InternalError("lift_layers: " + std::to_string(warm.rachis_widths.size()) + " rachis widths for " +
                         std::to_string(n) + " feathers");
@@ -584,6 +600,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
     r_state->turns.assign(n, 0.0f);
     r_state->scales.assign(n, 1.0f);
     r_state->yaws.assign(n, 0.0f);
+    r_state->bends.assign(n, 0.0f);
+    r_state->bend_starts.assign(n, 0.0f);
   }
   LayeringStats stats;
   if (n == 0) return stats;
@@ -658,10 +676,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         longest_edge = std::max(
             longest_edge, double((mesh.positions[size_t(t[k])] - mesh.positions[size_t(t[(k + 1) % 3])]).norm()));
   }
-  int64_t lifted = 0, unresolved = 0, left_under = 0, aside_count = 0;
+  int64_t lifted = 0, unresolved = 0, left_under = 0, aside_count = 0, bent = 0;
   std::vector<char> unordered(n, 0);
   float largest = 0.0f;
-#pragma omp parallel reduction(+ : lifted, unresolved, left_under, aside_count) reduction(max : largest)
+#pragma omp parallel reduction(+ : lifted, unresolved, left_under, aside_count, bent) reduction(max : largest)
   while (true) {
     int32_t next = -1;
     {
@@ -939,7 +957,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // feather's extent. The skin is not asked where the way out enters it again: a lower feather
       // beyond a fold of skin counts too (more turning asked than needed, never less).
       bool under_test = !outward_lower.empty();
-      std::vector<SurfacePoint> closest_hints(under_test && skin ? size_t(v1 - v0) : 0);
+      std::vector<SurfacePoint> closest_hints(skin && !outward.empty() ? size_t(v1 - v0) : 0);
       // The directions the way out can take from any vertex of mine, at any move about the root: a
       // cone about `cone_axis` of half angle `cone_angle` holding the skin's vertex normals near the
       // feather. A vertex q lies within the feather's extent of its root, so the skin point closest to
@@ -1230,6 +1248,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       // ascending, from aside_under_first[k]. Built on the first move tested; every test they skip
       // is one the full test rejects, so the answers are the same.
       std::vector<size_t> aside_near;
+      std::vector<int32_t> every_lower(lower.size());  // places in `lower`: a bent vertex is asked against all
+      for (size_t l = 0; l < lower.size(); ++l) every_lower[l] = int32_t(l);
       std::vector<int32_t> aside_under;
       std::vector<size_t> aside_under_first;
       auto aside_candidates = [&] {
@@ -1259,17 +1279,16 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       size_t aside_call = 0;
       // Per vertex, where the skin was last asked for it by a move and its signed distance there.
       std::vector<std::pair<Vec, double>> aside_known;
-      auto clear_moved = [&](const Eigen::Matrix3d &move) {
+      // `moved_point` maps a point of the feather (world, double) to where the move takes it. A rigid
+      // move keeps each point's distance from the root (so a group's sphere moves whole, and a vertex
+      // is asked only against the lower feathers at its distance); a bend does not: its groups' boxes
+      // are those of their moved triangles, every vertex is asked against every lower feather, and a
+      // bend that takes a vertex farther from the root than the feather's extent is refused (the
+      // schedule's spheres hold the feather). `under_too` false: the test for lower feathers over it
+      // is skipped.
+      const auto clear_mapped = [&](const auto &moved_point, bool rigid, bool under_too) {
         if (aside_under_first.empty()) aside_candidates();
         ++aside_call;
-        const auto moved_point = [&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); };
-        Eigen::AlignedBox3d all;
-        for (size_t m = 0; m < mine.centers.size(); ++m) {
-          const Vec c = moved_point(mine.centers[m]);
-          const double r = mine.radii[m] * (1.0 + 1e-9) + slack;
-          aside_sphere_boxes[m] = Eigen::AlignedBox3d(c.array() - r, c.array() + r);
-          all.extend(aside_sphere_boxes[m]);
-        }
         // A group of mine is moved when first tested.
         const auto move_group = [&](size_t m) {
           if (aside_turned_in[m] == aside_call) return;
@@ -1285,6 +1304,24 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             aside_group_boxes[m].extend(aside_boxes[t]);
           }
         };
+        Eigen::AlignedBox3d all;
+        if (rigid) {
+          for (size_t m = 0; m < mine.centers.size(); ++m) {
+            const Vec c = moved_point(mine.centers[m]);
+            const double r = mine.radii[m] * (1.0 + 1e-9) + slack;
+            aside_sphere_boxes[m] = Eigen::AlignedBox3d(c.array() - r, c.array() + r);
+            all.extend(aside_sphere_boxes[m]);
+          }
+        } else {
+          for (int64_t x = v0; x < v1; ++x)
+            if ((moved_point(r_frame.vanes.positions[size_t(x)].cast<double>()) - mine.root).norm() > mine.extent)
+              return false;
+          for (size_t m = 0; m < mine.centers.size(); ++m) {
+            move_group(m);
+            aside_sphere_boxes[m] = aside_group_boxes[m];
+            all.extend(aside_sphere_boxes[m]);
+          }
+        }
         // A triangle's box lies in its group's, so a pair of triangles whose groups' boxes are apart is
         // apart too.
         const auto vanes_meet = [&](size_t l) {
@@ -1327,6 +1364,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         };
         const auto under = [&](size_t k) {
           const int64_t x = outward[k];
+          if (!rigid)
+            return under_lower_at(aside_vertices[size_t(x - v0)], x, every_lower.data(),
+                                  every_lower.data() + every_lower.size(), nullptr) != 0;
           const int32_t *list = aside_under.data();
           return under_lower_at(aside_vertices[size_t(x - v0)], x, list + aside_under_first[k],
                                 list + aside_under_first[k + 1], nullptr) != 0;
@@ -1341,7 +1381,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           move_vertex(int64_t(aside_below));
           if (below(int64_t(aside_below))) return false;
         }
-        if (aside_under_witness != SIZE_MAX) {
+        if (under_too && aside_under_witness != SIZE_MAX) {
           move_vertex(outward[aside_under_witness]);
           if (under(aside_under_witness)) return false;
         }
@@ -1357,12 +1397,16 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
               aside_below = size_t(x);
               return false;
             }
-        for (size_t k = 0; k < outward.size(); ++k)
-          if (k != aside_under_witness && under(k)) {
-            aside_under_witness = k;
-            return false;
-          }
+        if (under_too)
+          for (size_t k = 0; k < outward.size(); ++k)
+            if (k != aside_under_witness && under(k)) {
+              aside_under_witness = k;
+              return false;
+            }
         return true;
+      };
+      auto clear_moved = [&](const Eigen::Matrix3d &move) {
+        return clear_mapped([&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); }, true, true);
       };
       // The move of a feather turned aside: the yaw about the skin normal, then the turn about the axis
       // turned with it.
@@ -1470,12 +1514,204 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         return false;
       };
 
+      // Bent where it must (docs/feathers.md, "Bent"): a feather no turn about its root, nor a yaw,
+      // takes out from under the lower ones (or clear of their vanes) is bent along its shaft (Barr's
+      // bend: in the feather's frame, shaft u, up w = axis x u toward the skin normal, the part beyond
+      // `start` of the shaft's length follows a circular arc about an axis parallel to `axis`, by
+      // `bend` radians at the tip, positive up; lengths along the shaft are kept), then turned about
+      // its axis. The bends of kBends are tried, the smallest change of shape first (the one of the
+      // frame before first, with a warm start), each with the smallest turn (steps of kAsideStep up
+      // to the skin normal, then bisection) at which the same exact tests pass; the whole feather
+      // (rachis, barbs, vanes) moves by the same map.
+      const Vec bend_u = shaft.normalized();
+      const Vec bend_w = axis.cross(bend_u).normalized();
+      double bend_length = 0.0;  // of the shaft, as far as the vanes reach along it
+      for (int64_t x = v0; x < v1; ++x)
+        bend_length =
+            std::max(bend_length, (r_frame.vanes.positions[size_t(x)].cast<double>() - mine.root).dot(bend_u));
+      // Where the bend (from `start` of the shaft's length, by `bend` radians at its end), then the
+      // turn by `angle` about the axis, take the point p (world). Curvature k over [from, bend_length]:
+      // a point at (along, up) lies at the radius 1/k - up from the arc's center (from, 1/k), turned
+      // by k (along - from); beyond the shaft's end the arc goes on (the vanes end there). The tests
+      // and the feather's final points use this one map, in double.
+      struct BentMap {
+        Eigen::Matrix3d turn;
+        double from, k;
+      };
+      const auto bent_map = [&](double angle, double start, double bend) {
+        const double from = start * bend_length;
+        return BentMap{Eigen::AngleAxisd(angle, axis).toRotationMatrix(), from, bend / (bend_length - from)};
+      };
+      const auto bent_point = [&](const BentMap &map, const Vec &p) {
+        const Vec d = p - mine.root;
+        const double along = d.dot(bend_u);
+        if (along <= map.from) return Vec(mine.root + map.turn * d);
+        const double up = d.dot(bend_w), across = d.dot(axis);
+        const double radius = 1.0 / map.k - up, phi = map.k * (along - map.from);
+        return Vec(mine.root + map.turn * ((map.from + radius * std::sin(phi)) * bend_u +
+                                           (1.0 / map.k - radius * std::cos(phi)) * bend_w + across * axis));
+      };
+      auto clear_bent = [&](double angle, double start, double bend, bool under_too) {
+        const BentMap map = bent_map(angle, start, bend);
+        return clear_mapped([&](const Vec &p) { return bent_point(map, p); }, false, under_too);
+      };
+      auto end_bent = [&](double angle, double start, double bend, bool out) {
+        const BentMap map = bent_map(angle, start, bend);
+        for (int64_t p = ranges.first_point[i]; p < ranges.first_point[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.curves.curves.positions[size_t(p)];
+          x = bent_point(map, x.cast<double>()).cast<float>();
+        }
+        for (int64_t p = ranges.first_vertex[i]; p < ranges.first_vertex[i + 1]; ++p) {
+          Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
+          x = bent_point(map, x.cast<double>()).cast<float>();
+        }
+        r_frame.lifts[i] += float(angle);
+        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
+        ++lifted;
+        ++bent;
+        largest = std::max(largest, float(angle));
+        if (r_state) {
+          r_state->turns[i] = float(angle);
+          r_state->bends[i] = float(bend);
+          r_state->bend_starts[i] = float(start);
+        }
+        if (out) {
+          if (counted_under) --left_under;
+          unordered[i] = 0;
+        } else {
+          if (!counted_under) ++left_under;
+          counted_under = true;
+          unordered[i] = 1;
+        }
+      };
+      // Before a shrink (no turn or yaw keeps it clear of the lower vanes): the bends tried, the
+      // smallest change of shape ((1 - start) |bend|) first, or nearest the preferred one (the frame
+      // before's) first, each at the smallest turn that keeps it clear of the lower vanes and the skin
+      // (steps of kAsideStep, then bisection); the first out from under every lower feather there is
+      // taken, else the first found (left under). None: false, nothing changed.
+      auto bend_clear = [&](double preferred_start, double preferred_bend) {
+        if (lower.empty() || !(bend_length > 0.0)) return false;
+        std::array<std::pair<double, double>, std::size(kBends)> bends;
+        std::copy(std::begin(kBends), std::end(kBends), bends.begin());
+        if (preferred_bend != 0.0)
+          std::stable_sort(bends.begin(), bends.end(), [&](const auto &a, const auto &b) {
+            return std::abs(a.first - preferred_start) + std::abs(a.second - preferred_bend) <
+                   std::abs(b.first - preferred_start) + std::abs(b.second - preferred_bend);
+          });
+        double kept_angle = -1.0, kept_start = 0.0, kept_bend = 0.0;
+        for (const auto &[start, bend] : bends) {
+          double failing = -1.0, clearing = -1.0;
+          for (double a = 0.0; a < max_angle + kAsideStep; a += kAsideStep) {
+            const double at = std::min(a, max_angle);
+            if (clear_bent(at, start, bend, false)) {
+              clearing = at;
+              break;
+            }
+            failing = at;
+          }
+          if (clearing < 0.0) continue;
+          if (failing >= 0.0)
+            clearing = nearest_clear(clearing, failing, kAsideTolerance,
+                                     [&](double a) { return clear_bent(a, start, bend, false); });
+          if (outward.empty() || clear_bent(clearing, start, bend, true)) {
+            end_bent(clearing, start, bend, true);
+            return true;
+          }
+          if (kept_angle < 0.0) {
+            kept_angle = clearing;
+            kept_start = start;
+            kept_bend = bend;
+          }
+        }
+        if (kept_angle < 0.0) return false;
+        end_bent(kept_angle, kept_start, kept_bend, false);
+        return true;
+      };
+      // Left under: of the bends, each at the 2 kLocalSteps + 1 turns by steps of kAsideStep about
+      // `near` (the turn under the fewest; from no turn where it is lower) that keep it clear of the
+      // lower vanes and the skin, the one under the fewest lower feathers, when fewer than `best`
+      // (that turn's): the feather ends there (left under, or out when under none), and true. With a
+      // warm start, the bend and turn of the frame before (`preferred_angle`) compete too, first: the
+      // feather stays there when that is under no more than `best`, unless another bend is under
+      // fewer.
+      auto bend_fewest = [&](double preferred_start, double preferred_bend, double preferred_angle, double near,
+                             std::ptrdiff_t best) {
+        if (lower.empty() || outward.empty() || !(bend_length > 0.0)) return false;
+        std::array<std::pair<double, double>, std::size(kBends)> bends;
+        std::copy(std::begin(kBends), std::end(kBends), bends.begin());
+        if (preferred_bend != 0.0)
+          std::stable_sort(bends.begin(), bends.end(), [&](const auto &a, const auto &b) {
+            return std::abs(a.first - preferred_start) + std::abs(a.second - preferred_bend) <
+                   std::abs(b.first - preferred_start) + std::abs(b.second - preferred_bend);
+          });
+        std::vector<char> over_bent(lower.size());
+        // The lower feathers over it as clear_bent last moved it, counted up to `enough`.
+        const auto count_over = [&](std::ptrdiff_t enough) {
+          std::fill(over_bent.begin(), over_bent.end(), char(0));
+          std::ptrdiff_t count = 0;
+          for (size_t k = 0; k < outward.size() && count < enough; ++k)
+            count += under_lower_at(aside_vertices[size_t(outward[k] - v0)], outward[k], every_lower.data(),
+                                    every_lower.data() + every_lower.size(), &over_bent);
+          return count;
+        };
+        double best_angle = -1.0, best_start = 0.0, best_bend = 0.0;
+        if (preferred_bend != 0.0 && preferred_angle >= 0.0 &&
+            clear_bent(preferred_angle, preferred_start, preferred_bend, false)) {
+          const std::ptrdiff_t count = count_over(best + 1);
+          if (count <= best) {
+            best = count;
+            best_angle = preferred_angle;
+            best_start = preferred_start;
+            best_bend = preferred_bend;
+          }
+        }
+        const double lowest = std::max(near - kLocalSteps * kAsideStep, 0.0);
+        for (const auto &[start, bend] : bends) {
+          for (int s = 0; s <= 2 * kLocalSteps && best > 0; ++s) {
+            const double at = std::min(lowest + s * kAsideStep, max_angle);
+            if (s > 0 && at == std::min(lowest + (s - 1) * kAsideStep, max_angle)) break;
+            if (!clear_bent(at, start, bend, false)) continue;
+            const std::ptrdiff_t count = count_over(best);
+            if (count < best) {
+              best = count;
+              best_angle = at;
+              best_start = start;
+              best_bend = bend;
+            }
+          }
+        }
+        if (best_angle < 0.0) return false;
+        end_bent(best_angle, best_start, best_bend, best == 0);
+        return true;
+      };
+      // A feather bent at the frame before: where its bend and turn still clear, the bend falls back
+      // toward none by at most `fall` (where that clears), the turn kept. Found: true; else false,
+      // nothing changed.
+      auto keep_bent = [&](double angle, double start, double bend, double fall) {
+        if (lower.empty() || !(bend_length > 0.0) || !clear_bent(angle, start, bend, !outward.empty())) return false;
+        const double target = std::abs(bend) <= fall ? 0.0 : bend - std::copysign(fall, bend);
+        if (target == 0.0) {
+          if (!conflict(angle)) {
+            if (angle > 0.0) turn_by(angle);
+            return true;
+          }
+        } else if (clear_bent(angle, start, target, !outward.empty())) {
+          end_bent(angle, start, target, true);
+          return true;
+        }
+        end_bent(angle, start, bend, true);
+        return true;
+      };
+
       // The warm start (docs/feathers.md, "The layering pass's warm start"): from the turn and size
       // the feather had at the frame before.
       double from = -1.0;     // the turn at the frame before, with a warm start
       // The yaw at the frame before (0: not turned aside): turning aside afresh tries the yaws nearest
       // it first.
       double previous_yaw = 0.0;
+      // The bend at the frame before (0: not bent) and where it started: bending afresh tries the
+      // bends nearest it first.
+      double previous_bend = 0.0, previous_bend_start = 0.0;
       bool searched = false;  // whether the warm start tried every step of the range and none cleared
       if (previous) {
         // How far the turn may fall back per frame: its vanes' farthest point by fall_back rachis widths.
@@ -1524,6 +1760,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         }
         previous_yaw = previous->yaws.empty() ? 0.0 : double(previous->yaws[i]);
         from = std::clamp(double(previous->turns[i]), 0.0, max_angle);
+        if (!previous->bends.empty() && previous->bends[i] != 0.0f) {
+          previous_bend = double(previous->bends[i]);
+          previous_bend_start = double(previous->bend_starts[i]);
+          if (keep_bent(from, previous_bend_start, previous_bend, fall)) continue;
+        }
         if (from > 0.0) {
           if (!conflict(from)) {
             // Still clear: down toward the template by at most `fall`, without leaving the turns that clear.
@@ -1622,7 +1863,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           if (at == max_angle || best <= 1) break;
         }
         if (stay && above == from) {
-          if (!turn_aside(previous_yaw)) end_at(from);
+          if (!turn_aside(previous_yaw) && !bend_fewest(previous_bend_start, previous_bend, from, from, best))
+            end_at(from);
           continue;
         }
         if (above > 0.0) {
@@ -1632,13 +1874,17 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             (worse(mid, best) ? below : above) = mid;
           }
         }
-        if (above >= 0.0 && turn_aside(previous_yaw)) continue;
+        if (above >= 0.0 &&
+            (turn_aside(previous_yaw) || bend_fewest(previous_bend_start, previous_bend, from, above, best)))
+          continue;
       }
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): turned aside where that clears it,
-        // else, unturned, it is shrunk toward its root until it clears (the largest such size), as
-        // the skin pass does.
-        if (turn_aside(previous_yaw)) continue;
+        // else bent (out from under the lower feathers where a bend takes it out, else clear of their
+        // vanes only: left under rather than shrunk), else, unturned, it is shrunk toward its root
+        // until it clears (the largest such size), as the skin pass does.
+        if (turn_aside(previous_yaw) || bend_clear(previous_bend_start, previous_bend))
+          continue;
         shrink_to(largest_clear_size(1.0));
         continue;
       }
@@ -1657,6 +1903,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
   stats.unresolved = unresolved;
   stats.left_under = left_under;
   stats.turned_aside = aside_count;
+  stats.bent = bent;
   for (size_t i = 0; i < n; ++i)
     if (unordered[i]) stats.unordered.push_back(int32_t(i));
   stats.largest_lift = largest;

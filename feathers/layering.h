@@ -1,6 +1,7 @@
 // Feathers in layers: an order decided once on the rest pose (which feather's vane covers which
-// feather's root), then, every frame, each feather turned up about its root, from the bottom of the
-// order up, until its vanes keep an offset (relative to its size) from every lower feather's vanes.
+// feather's root), then, every frame, each feather turned up about its root (turned aside, or bent
+// along its shaft, where a turn is not enough), from the bottom of the order up, until its vanes keep
+// an offset (relative to its size) from every lower feather's vanes.
 // Each feather starts from the turn it had at the frame before (its warm start), so its turn changes
 // little when the body moves little; the state is carried as the skin pass's is.
 #pragma once
@@ -89,14 +90,19 @@ struct LayeringOptions {
 };
 
 /// What the layering pass decided at one frame, per feather in coat order: its turn on top of the skin
-/// pass's (radians, >= 0), its size (1, or less where the pass shrank it) and its yaw (radians, signed,
+/// pass's (radians, >= 0), its size (1, or less where the pass shrank it), its yaw (radians, signed,
 /// about the skin normal through its root; 0 unless turned aside: then the turn is about the axis
-/// turned by the yaw). The next frame's pass starts from it (lift_layers' warm start). `yaws` may be
-/// empty in a state given as the frame before: no feather turned aside.
+/// turned by the yaw) and its bend (radians at the tip, signed, positive toward the skin normal; 0
+/// unless bent: then the part of its shaft beyond `bend_starts` of its length, a fraction, follows a
+/// circular arc, and the turn comes after the bend). The next frame's pass starts from it
+/// (lift_layers' warm start). `yaws`, and `bends` with `bend_starts`, may be empty in a state given as
+/// the frame before: no feather turned aside, or bent.
 struct LayeringState {
   std::vector<float> turns;
   std::vector<float> scales;
   std::vector<float> yaws;
+  std::vector<float> bends;
+  std::vector<float> bend_starts;
   bool empty() const { return turns.empty(); }
 };
 
@@ -117,6 +123,11 @@ struct LayeringStats {
   /// Feathers no turn about their axis took out from under the lower ones, turned aside (a yaw about
   /// the skin normal, then a turn) until none is over them (counted in `lifted`, not in `left_under`).
   int64_t turned_aside = 0;
+  /// Feathers neither a turn nor a yaw took out from under the lower ones (or clear of their vanes),
+  /// bent along their shaft and turned so that the same tests pass (counted in `lifted`; in
+  /// `left_under` too, and named in `unordered`, when the bend leaves them under fewer lower
+  /// feathers than a turn, or keeps them clear of the lower vanes instead of a shrink).
+  int64_t bent = 0;
   /// The feathers left under a lower one or shrunk (indices, ascending): a higher feather found
   /// under a lower one anywhere on the frame is one of these.
   std::vector<int32_t> unordered;
@@ -148,13 +159,19 @@ struct LayeringStats {
 /// its yaw falling back toward none by at most options.fall_back rachis widths at its farthest point
 /// (its turn instead where the yaw cannot fall), or takes the nearest turn that clears at that yaw
 /// within 3 steps either way; else the search, and turning aside afresh tries the yaws nearest its
-/// yaw of the frame before first; a shrunk feather grows back unturned by at most
-/// options.fall_back rachis widths per frame, and where its size no longer clears, takes the nearest
-/// size below that does; otherwise, the search above. Every answer passes the
+/// yaw of the frame before first; a feather bent at the frame before keeps its bend and turn while
+/// they clear, the bend falling back toward none by at most options.fall_back rachis widths at its
+/// farthest point; a feather neither a turn nor a yaw takes out from under the lower ones is bent
+/// along its shaft where a bend, at turns near the one under the fewest, leaves it under fewer lower
+/// feathers (or none), and one no turn or yaw keeps clear of the lower vanes is bent, where a bend
+/// does, before it is shrunk; a shrunk feather grows
+/// back unturned by at most options.fall_back rachis widths per frame, and where its size no longer
+/// clears, takes the nearest size below that does; otherwise, the search above. Every answer passes the
 /// same tests as the search's, so the promise (no vane within the offset of a lower one, none below
 /// the skin) is the same.
 /// `r_state` (may be null): the state to carry to the next frame.
-/// Throws InputError when `warm.previous` does not hold one entry per feather (yaws: one, or none).
+/// Throws InputError when `warm.previous` does not hold one entry per feather (yaws, bends and
+/// bend_starts: one, or none).
 LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, const LayeringOptions &options,
                           const MeshQuery *skin, CoatFrame &r_frame, const skin::SkinGrid *skin_grid = nullptr,
                           const LayeringWarmStart &warm = {}, LayeringState *r_state = nullptr);

@@ -15,7 +15,8 @@ namespace plume::io {
 
 namespace {
 
-constexpr const char *kHeader = "plume feather lifts 3";
+constexpr const char *kHeader = "plume feather lifts 4";
+constexpr const char *kHeaderVersion3 = "plume feather lifts 3";
 constexpr const char *kHeaderVersion2 = "plume feather lifts 2";
 constexpr const char *kHeaderVersion1 = "plume feather lifts 1";
 constexpr float kPi = 3.14159265358979f;
@@ -56,15 +57,18 @@ std::string feather_lifts_pattern(const std::string &guide_cache_pattern) {
 void write_feather_lifts(const std::string &path, const FeatherLifts &lifts) {
   std::string text = std::string(kHeader) + "\nframe " + std::to_string(lifts.frame) + "\nfeathers " +
                      std::to_string(lifts.ids.size()) + "\nlayers " + (lifts.layered ? "1" : "0") +
-                     (lifts.layered ? "\n# id lift scale layer_turn layer_scale layer_yaw (radians; sizes, 1 when not "
-                                      "shrunk; yaw 0 unless turned aside)\n"
+                     (lifts.layered ? "\n# id lift scale layer_turn layer_scale layer_yaw layer_bend layer_bend_start "
+                                      "(radians; sizes, 1 when not shrunk; yaw 0 unless turned aside, bend 0 "
+                                      "unless bent; bend start, a fraction of the shaft)\n"
                                     : "\n# id lift scale (radians; size, 1 when not shrunk)\n");
-  char line[160];
+  char line[224];
   for (size_t i = 0; i < lifts.ids.size(); ++i) {
     if (lifts.layered)
-      std::snprintf(line, sizeof line, "%llu %.9g %.9g %.9g %.9g %.9g\n", (unsigned long long)lifts.ids[i],
+      std::snprintf(line, sizeof line, "%llu %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", (unsigned long long)lifts.ids[i],
                     double(lifts.lifts[i]), double(lifts.scales[i]), double(lifts.layer_turns[i]),
-                    double(lifts.layer_scales[i]), lifts.layer_yaws.empty() ? 0.0 : double(lifts.layer_yaws[i]));
+                    double(lifts.layer_scales[i]), lifts.layer_yaws.empty() ? 0.0 : double(lifts.layer_yaws[i]),
+                    lifts.layer_bends.empty() ? 0.0 : double(lifts.layer_bends[i]),
+                    lifts.layer_bend_starts.empty() ? 0.0 : double(lifts.layer_bend_starts[i]));
     else
       std::snprintf(line, sizeof line, "%llu %.9g %.9g\n", (unsigned long long)lifts.ids[i], double(lifts.lifts[i]),
                     double(lifts.scales[i]));
@@ -88,9 +92,11 @@ FeatherLifts read_feather_lifts(const std::string &path) {
   if (!next_content(cursor, rest))
     throw InputError(FileLoc{path}, "feather lifts: expected \"" + std::string(kHeader) + "\", got an empty file");
   while (!rest.empty() && (rest.back() == ' ' || rest.back() == '\t' || rest.back() == '\r')) rest.remove_suffix(1);
-  if (rest != kHeader && rest != kHeaderVersion2 && rest != kHeaderVersion1)
-    cursor.fail("header: expected \"" + std::string(kHeader) + "\" (or version 2 or 1), got " + detail::quoted(rest));
-  const bool version1 = rest == kHeaderVersion1, version2 = rest == kHeaderVersion2;
+  if (rest != kHeader && rest != kHeaderVersion3 && rest != kHeaderVersion2 && rest != kHeaderVersion1)
+    cursor.fail("header: expected \"" + std::string(kHeader) + "\" (or version 3, 2 or 1), got " +
+                detail::quoted(rest));
+  const bool version1 = rest == kHeaderVersion1, version2 = rest == kHeaderVersion2,
+             version3 = rest == kHeaderVersion3;
   FeatherLifts lifts;
   const long long frame = keyword_value(cursor, "frame");
   if (frame < -1000000000LL || frame > 1000000000LL) cursor.fail("frame: expected a frame number, got " + std::to_string(frame));
@@ -104,7 +110,8 @@ FeatherLifts read_feather_lifts(const std::string &path) {
     lifts.layered = layers == 1;
   }
   const bool yawed = lifts.layered && !version2;
-  const int columns = lifts.layered ? (yawed ? 6 : 5) : 3;
+  const bool bent = yawed && !version3;
+  const int columns = lifts.layered ? (bent ? 8 : yawed ? 6 : 5) : 3;
   // No more lines than the text can hold (a line takes at least 6 bytes): a wrong count allocates nothing.
   const size_t expected = std::min(size_t(count), text.size() / 6);
   lifts.ids.reserve(expected);
@@ -114,6 +121,10 @@ FeatherLifts read_feather_lifts(const std::string &path) {
     lifts.layer_turns.reserve(expected);
     lifts.layer_scales.reserve(expected);
     if (yawed) lifts.layer_yaws.reserve(expected);
+    if (bent) {
+      lifts.layer_bends.reserve(expected);
+      lifts.layer_bend_starts.reserve(expected);
+    }
   }
   std::unordered_set<uint64_t> seen;
   while (next_content(cursor, rest)) {
@@ -152,11 +163,26 @@ FeatherLifts read_feather_lifts(const std::string &path) {
         cursor.fail(yaw_token, what + ": layer_yaw: expected radians in [-pi, pi], got " + detail::quoted(yaw_token));
       lifts.layer_yaws.push_back(yaw);
     }
+    if (bent) {
+      const std::string_view bend_token = detail::LineCursor::take_token(rest);
+      const float bend = cursor.to_float(bend_token, what + ": layer_bend");
+      if (!(bend >= -kPi - 1e-5f && bend <= kPi + 1e-5f))
+        cursor.fail(bend_token, what + ": layer_bend: expected radians in [-pi, pi], got " + detail::quoted(bend_token));
+      const std::string_view start_token = detail::LineCursor::take_token(rest);
+      const float start = cursor.to_float(start_token, what + ": layer_bend_start");
+      if (!(start >= 0.0f && start <= 1.0f))
+        cursor.fail(start_token,
+                    what + ": layer_bend_start: expected a fraction in [0, 1], got " + detail::quoted(start_token));
+      lifts.layer_bends.push_back(bend);
+      lifts.layer_bend_starts.push_back(start);
+    }
     if (const std::string_view extra = detail::LineCursor::take_token(rest); !extra.empty())
       cursor.fail(extra, what + ": expected " + std::to_string(columns) +
                              (!lifts.layered ? " values (id lift scale)"
-                              : yawed       ? " values (id lift scale layer_turn layer_scale layer_yaw)"
-                                            : " values (id lift scale layer_turn layer_scale)") +
+                              : bent ? " values (id lift scale layer_turn layer_scale layer_yaw layer_bend "
+                                       "layer_bend_start)"
+                              : yawed ? " values (id lift scale layer_turn layer_scale layer_yaw)"
+                                      : " values (id lift scale layer_turn layer_scale)") +
                              ", got more: " + detail::quoted(extra));
     lifts.ids.push_back(uint64_t(id));
     lifts.lifts.push_back(lift);

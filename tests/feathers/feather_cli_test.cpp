@@ -108,7 +108,7 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
   for (int frame = 1; frame <= 5; ++frame) {
     const std::string name = "stems.000" + std::to_string(frame) + ".lifts";
     const std::string one = read_text(scratch / ("cache1/" + name));
-    CHECK(one.rfind("plume feather lifts 3\nframe " + std::to_string(frame) + "\nfeathers ", 0) == 0);
+    CHECK(one.rfind("plume feather lifts 4\nframe " + std::to_string(frame) + "\nfeathers ", 0) == 0);
     CHECK(one.find("\nlayers 0\n") != std::string::npos);
     CHECK(one == read_text(scratch / ("cache2/" + name)));
   }
@@ -152,11 +152,14 @@ TEST_CASE("plume simulate writes the skin pass's lifts beside the guide cache: a
   const size_t body = valid.find("\n", valid.find("# id")) + 1;
   const size_t second_line = valid.find("\n", body) + 1;
   for (const auto &[text, expected] : std::vector<std::pair<std::string, std::string>>{
-           {"plume feather lifts 4\n", "stems.0003.lifts:1: header"},
+           {"plume feather lifts 5\n", "stems.0003.lifts:1: header"},
            {"plume feather lifts 2\nframe 3\nfeathers 0\nlayers 2\n", "stems.0003.lifts:4: layers: expected 0 or 1"},
            {"plume feather lifts 2\nframe 3\nfeathers 1\nlayers 1\n7 0 1\n", "layer_turn"},
            {"plume feather lifts 3\nframe 3\nfeathers 1\nlayers 1\n7 0 1 0 1\n", "layer_yaw"},
            {"plume feather lifts 3\nframe 3\nfeathers 1\nlayers 1\n7 0 1 0 1 4\n", "layer_yaw: expected radians"},
+           {"plume feather lifts 4\nframe 3\nfeathers 1\nlayers 1\n7 0 1 0 1 0\n", "layer_bend"},
+           {"plume feather lifts 4\nframe 3\nfeathers 1\nlayers 1\n7 0 1 0 1 0 4 0\n", "layer_bend: expected radians"},
+           {"plume feather lifts 4\nframe 3\nfeathers 1\nlayers 1\n7 0 1 0 1 0 0.2 2\n", "layer_bend_start: expected"},
            {"plume feather lifts 1\nframe 2\nfeathers 0\n", "stems.0003.lifts:2: frame: expected 3"},
            {valid.substr(0, body) + "7 nan 1\n" + valid.substr(second_line), ":6:"},
            {valid.substr(0, body) + "7 0.5 2\n" + valid.substr(second_line), "scale"},
@@ -288,28 +291,31 @@ TEST_CASE("with layers, the layering pass's state is carried like the skin pass'
     CHECK(run.err.find("layers") != std::string::npos);
     CHECK(!fs::exists(scratch / "bad.0004.usda"));
   }
-  // A layered file of version 2 (no yaw column) exits 2 naming the file and the yaw.
-  std::string version2;
-  {
-    std::istringstream lines(read_text(scratch / "cache2/stems.0003.lifts"));
+  // A layered file of version 3 (no bend columns) exits 2 naming the file and the bend; one of
+  // version 2 (no yaw either), the yaw.
+  const std::string valid_layered = read_text(scratch / "cache2/stems.0003.lifts");
+  for (const auto &[version, field] : std::vector<std::pair<int, std::string>>{{3, "layer_bend"}, {2, "layer_yaw"}}) {
+    std::string older;
+    std::istringstream lines(valid_layered);
     std::string line;
     bool body = false;
     while (std::getline(lines, line)) {
-      if (line.rfind("plume feather lifts", 0) == 0) line = "plume feather lifts 2";
-      if (body) line.erase(line.rfind(' '));  // the yaw
+      if (line.rfind("plume feather lifts", 0) == 0) line = "plume feather lifts " + std::to_string(version);
+      if (body)
+        for (int column = 0; column < (version == 3 ? 2 : 3); ++column) line.erase(line.rfind(' '));
       body = body || line.rfind("# id", 0) == 0;
-      version2 += line + "\n";
+      older += line + "\n";
     }
+    std::ofstream(lifts, std::ios::binary) << older;
+    const RunResult old = run_plume("regrow " + quoted(groom) + " --frames 4 --no-preview --out " +
+                                        quoted(scratch / "old.####.usda") + cache,
+                                    scratch);
+    INFO(old.err);
+    CHECK(old.exit_code == 2);
+    CHECK(old.err.find("stems.0003.lifts") != std::string::npos);
+    CHECK(old.err.find(field) != std::string::npos);
+    CHECK(!fs::exists(scratch / "old.0004.usda"));
   }
-  std::ofstream(lifts, std::ios::binary) << version2;
-  const RunResult old = run_plume("regrow " + quoted(groom) + " --frames 4 --no-preview --out " +
-                                      quoted(scratch / "old.####.usda") + cache,
-                                  scratch);
-  INFO(old.err);
-  CHECK(old.exit_code == 2);
-  CHECK(old.err.find("stems.0003.lifts") != std::string::npos);
-  CHECK(old.err.find("layer_yaw") != std::string::npos);
-  CHECK(!fs::exists(scratch / "old.0004.usda"));
 }
 
 TEST_CASE("a feather frame passes plume check, curves and vane meshes", "[feathers][cli]") {

@@ -51,6 +51,8 @@ TEST_CASE("with the warm start, a chain of layered frames is the same to the bit
     CHECK(now[0].layer_state.turns == now[1].layer_state.turns);
     CHECK(now[0].layer_state.scales == now[1].layer_state.scales);
     CHECK(now[0].layer_state.yaws == now[1].layer_state.yaws);
+    CHECK(now[0].layer_state.bends == now[1].layer_state.bends);
+    CHECK(now[0].layer_state.bend_starts == now[1].layer_state.bend_starts);
     CHECK(now[0].layering.unordered == now[1].layering.unordered);
     before = std::move(now);
   }

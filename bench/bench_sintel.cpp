@@ -91,7 +91,8 @@ int main(int argc, char **argv) {
     lines.push_back(std::string("  ") + name + ": " + std::to_string(double(stats.steps) / double(strands.strand_count())) +
                     " steps per strand, " + stats.summary() +
                     (options.separate ? "; the separation pass: " + std::to_string(stats.separated_pairs) +
-                                            " segment pairs found, " + std::to_string(stats.unseparated_pairs) + " left"
+                                            " segment pairs found, " + std::to_string(stats.unseparated_pairs) + " left after " +
+                                            std::to_string(stats.separation_sweeps) + " sweeps"
                                       : std::string()));
   }
   std::printf("\n");

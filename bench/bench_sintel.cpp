@@ -1,6 +1,6 @@
 // Growth on the real job: Sintel's head and 228 guides, 100,000 strands x 32 points on her scalp
-// (roots within 2 of a guide root, as her grooms scatter them), every interpolation method, two
-// threads; the median of repeated runs of grow() alone (binding is done once, as a groom does),
+// (roots within 2 of a guide root, as her grooms scatter them), every interpolation method as a
+// groom runs it by default (streamline with its separation pass), two threads; the median of repeated runs of grow() alone (binding is done once, as a groom does),
 // in points per second. bench/vs_blender.sh runs it beside Blender's interpolated children
 // (bench/blender_children.py) in one go and prints the ratio.
 // Usage: bench_sintel [STRANDS [RUNS [METHOD]]]   (default 100000 strands, 7 runs, every method)
@@ -64,6 +64,8 @@ int main(int argc, char **argv) {
     const interp::Binding binding = interp::bind(mesh, guides, roots, settings);
     interp::GrowOptions options;
     options.points_per_strand = kPoints;
+    // As a groom grows them: streamline with the separation pass unless the groom turns it off.
+    options.separate = method == Method::streamline && settings.separate;
     StrandSet strands;
     interp::grow(binding, mesh, query, roots, guides.strands, options, strands);  // warm-up: allocations
     std::vector<double> times, cpu_times;
@@ -87,7 +89,11 @@ int main(int argc, char **argv) {
                   name, strands.strand_count(), kPoints, kThreads, seconds, rate);
     lines.push_back(line);
     lines.push_back(std::string("  ") + name + ": " + std::to_string(double(stats.steps) / double(strands.strand_count())) +
-                    " steps per strand, " + stats.summary());
+                    " steps per strand, " + stats.summary() +
+                    (options.separate ? "; the separation pass: " + std::to_string(stats.separated_pairs) +
+                                            " segment pairs found, " + std::to_string(stats.unseparated_pairs) + " left after " +
+                                            std::to_string(stats.separation_sweeps) + " sweeps"
+                                      : std::string()));
   }
   std::printf("\n");
   for (const std::string &line : lines) std::printf("%s\n", line.c_str());

@@ -69,9 +69,11 @@ struct InterpolationSettings {
   /// default_margin_fraction of the rest guides' median segment length, so that the groom's scale
   /// does not matter.
   float skin_margin = -1.0f;
-  /// Streamline: the separation pass over the written polylines (interp/separate.h). Off by default:
-  /// with it a proxy's strands are no longer the same bytes as in a run with more roots.
-  bool separate = false;
+  /// Streamline: the separation pass over the written polylines (interp/separate.h). On by default:
+  /// the field's exact curves do not cross, but its polylines can where it brings neighbours within a
+  /// chord's sag. With it, a proxy's strands are within the pass's largest move of a run with more
+  /// roots, not the same bytes (`separate: false` gives those back).
+  bool separate = true;
   FileLoc loc;
 };
 

@@ -50,6 +50,7 @@ class Separator {
     // The floor of each point's signed distance is the margin, or half its bound when growth left it
     // nearer (a root climbing out, a strand ended at the skin): never inside the skin.
     moved_.assign(strand_count_ * size_t(n - 1), 0);
+    travel_.assign(strand_count_ * size_t(n - 1), 0.0);
     floor_.resize(lower.size());
     for (size_t k = 0; k < lower.size(); ++k) floor_[k] = lower[k] >= margin ? margin : 0.5f * lower[k];
   }
@@ -96,12 +97,10 @@ class Separator {
     std::sort(found.begin(), found.end());
     candidates_ = std::move(found);
     near_flags_.assign(candidates_.size(), 0);
+    clear_.assign(candidates_.size(), 0.0);
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
 #pragma omp parallel for schedule(static, 1024)
-    for (int64_t c = 0; c < int64_t(candidates_.size()); ++c) {
-      const auto &[u, v] = candidates_[size_t(c)];
-      near_flags_[size_t(c)] = near(u, v, detect, cos_angle);
-    }
+    for (int64_t c = 0; c < int64_t(candidates_.size()); ++c) measure(size_t(c), detect, cos_angle);
     stale_.assign(segments, 0);
     candidates_changed();
     mark_searched();
@@ -160,30 +159,32 @@ class Separator {
     // Merged with the candidates without a moving segment (disjoint, both sorted).
     std::vector<Pair> merged;
     std::vector<uint8_t> flags;
-    std::vector<uint32_t> measure;  // the merged indices of the pairs found now
+    std::vector<double> clear;
+    std::vector<uint32_t> fresh;  // the merged indices of the pairs found now
     merged.reserve(found.size() + candidates_.size());
     flags.reserve(found.size() + candidates_.size());
+    clear.reserve(found.size() + candidates_.size());
     size_t f = 0;
     for (size_t c = 0; c <= candidates_.size(); ++c) {
       const bool last = c == candidates_.size();
       if (!last && (is_moving[candidates_[c].first] || is_moving[candidates_[c].second])) continue;
       for (; f < found.size() && (last || found[f] < candidates_[c]); ++f) {
-        measure.push_back(uint32_t(merged.size()));
+        fresh.push_back(uint32_t(merged.size()));
         merged.push_back(found[f]);
         flags.push_back(0);
+        clear.push_back(0.0);
       }
       if (last) break;
       merged.push_back(candidates_[c]);
       flags.push_back(near_flags_[c]);
-    }
-    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
-#pragma omp parallel for schedule(static, 1024) if (measure.size() > 4096)
-    for (int64_t i = 0; i < int64_t(measure.size()); ++i) {
-      const auto &[u, v] = merged[measure[size_t(i)]];
-      flags[measure[size_t(i)]] = near(u, v, detect, cos_angle);
+      clear.push_back(clear_[c]);
     }
     candidates_ = std::move(merged);
     near_flags_ = std::move(flags);
+    clear_ = std::move(clear);
+    const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
+#pragma omp parallel for schedule(static, 1024) if (fresh.size() > 4096)
+    for (int64_t i = 0; i < int64_t(fresh.size()); ++i) measure(fresh[size_t(i)], detect, cos_angle);
     candidates_changed();
     mark_searched();
   }
@@ -201,8 +202,12 @@ class Separator {
     const float cos_angle = std::cos(separation_angle_degrees * float(M_PI) / 180.0f);
 #pragma omp parallel for schedule(static, 256) if (again.size() > 4096)
     for (int64_t i = 0; i < int64_t(again.size()); ++i) {
-      const auto &[u, v] = candidates_[again[size_t(i)]];
-      near_flags_[again[size_t(i)]] = near(u, v, detect, cos_angle);
+      const size_t c = again[size_t(i)];
+      // A pair far at its last measure whose segments have not moved enough since to come within
+      // `detect` is not measured again: it is not near.
+      const auto &[u, v] = candidates_[c];
+      if (!near_flags_[c] && clear_[c] - travel_[u] - travel_[v] > double(detect) * (1.0 + 1e-6)) continue;
+      measure(c, detect, cos_angle);
     }
     // The near candidates: those not measured again as they were, and those measured again now near.
     std::vector<uint32_t> near_now;
@@ -467,11 +472,22 @@ class Separator {
     std::fill(moved_.begin(), moved_.end(), 0);
   }
   /// Point k moves: the segments it ends are flagged for measuring again.
-  void mark_moved(size_t k) {
+  /// Point k moves to `to`: the segments it ends are flagged for measuring again, and travel as far.
+  void mark_moved(size_t k, const Eigen::Vector3f &to) {
     const size_t strand = strand_of_point(k), j = k - strand * size_t(n_);
     const size_t first = strand * size_t(n_ - 1);
-    if (j > 0) moved_[first + j - 1] = 1;
-    if (j + 1 < size_t(n_)) moved_[first + j] = 1;
+    const double distance = (to_d(to) - to_d(positions_[k])).norm();
+    if (j > 0) moved_[first + j - 1] = 1, travel_[first + j - 1] += distance;
+    if (j + 1 < size_t(n_)) moved_[first + j] = 1, travel_[first + j] += distance;
+  }
+  /// Measures candidate c: near or not, and how far its segments may travel before they can be near
+  /// (their distance now, plus their travel so far: a point of a segment moves at most as far as
+  /// the farther of its ends, so the distance of two segments falls at most by what each travels).
+  void measure(size_t c, float detect, float cos_angle) {
+    const auto &[u, v] = candidates_[c];
+    double gap = 0.0;
+    near_flags_[c] = near(u, v, detect, cos_angle, &gap);
+    clear_[c] = gap + travel_[u] + travel_[v];
   }
   void mark_searched() {
     searched_.assign(positions_.begin(), positions_.end());
@@ -486,11 +502,13 @@ class Separator {
 
   /// Whether segments u and v are nearer than `distance` at an angle whose cosine is below
   /// `cos_angle` (any angle when it is above 1), or in one plane.
-  bool near(size_t u, size_t v, float distance, float cos_angle) const {
+  bool near(size_t u, size_t v, float distance, float cos_angle, double *r_gap = nullptr) const {
     const Vec a0 = to_d(end(u, 0)), a1 = to_d(end(u, 1)), b0 = to_d(end(v, 0)), b1 = to_d(end(v, 1));
     double s = 0.0, t = 0.0;
     closest_segment_parameters(a0, a1, b0, b1, s, t);
-    if (((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm() >= double(distance)) return false;
+    const double gap = ((a0 + s * (a1 - a0)) - (b0 + t * (b1 - b0))).norm();
+    if (r_gap) *r_gap = gap;
+    if (gap >= double(distance)) return false;
     if (cos_angle > 1.0f) return true;  // at any angle
     const Vec da = a1 - a0, db = b1 - b0;
     const double la = da.norm(), lb = db.norm();
@@ -566,7 +584,7 @@ class Separator {
     if (!to.allFinite() || !(delta.squaredNorm() > 0.0f) || (to - original_[k]).norm() > largest) return 0.0;
     float bound = lower_[k] - delta.norm();
     if (bound >= floor_[k]) {
-      mark_moved(k);
+      mark_moved(k, to);
       positions_[k] = to;
       drift_squared_ = std::max(drift_squared_, (to - searched_[k]).squaredNorm());
       lower_[k] = bound;
@@ -590,7 +608,7 @@ class Separator {
     bound = grid_.signed_distance(target, closest.triangle, closest);
     if (!(bound >= floor_[k])) return 0.0;
     ++stats.slid;
-    mark_moved(k);
+    mark_moved(k, target);
     positions_[k] = target;
     drift_squared_ = std::max(drift_squared_, (target - searched_[k]).squaredNorm());
     lower_[k] = bound;
@@ -635,6 +653,8 @@ class Separator {
   std::vector<float> arcs_;
   std::vector<float> floor_;
   std::vector<uint8_t> moved_;  // per segment: moved since its candidates were measured
+  std::vector<double> travel_;  // per segment: how far its ends have moved, summed over every move
+  std::vector<double> clear_;   // per candidate: its distance at its last measure plus its segments' travel then
 };
 
 }  // namespace

@@ -134,7 +134,7 @@ TEST_CASE("a full groom file sets every field of GroomDesc", "[io]") {
   CHECK(i.radius == 2.5);
   CHECK(i.falloff == 3.0f);
   CHECK(i.skin_margin == 0.01f);
-  CHECK(i.separate);
+  CHECK_FALSE(i.separate);
 
   const plume::PartingSettings &p = g.partings;
   CHECK(p.zone_source == plume::PartingSettings::ZoneSource::face_groups);
@@ -250,7 +250,7 @@ TEST_CASE("a minimal groom file gets the documented defaults", "[io]") {
   CHECK(g.interpolation.radius == 0.0);
   CHECK(g.interpolation.falloff == 2.0f);
   CHECK(g.interpolation.skin_margin < 0.0f);  // automatic: scaled to the guides
-  CHECK_FALSE(g.interpolation.separate);
+  CHECK(g.interpolation.separate);  // the separation pass is on unless the groom turns it off
   CHECK(g.partings.zone_source == plume::PartingSettings::ZoneSource::none);
   CHECK(g.partings.lines.empty());
   CHECK(g.effects.empty());

@@ -1148,14 +1148,19 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           x = root + map(Eigen::Vector3f(x - root));
         }
       };
-      auto turn_by = [&](double angle) {
-        const Eigen::Matrix3f turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix().cast<float>();
-        move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(turn * offset); });
+      // The feather's points moved by a turn of `angle` (and maybe a yaw or a bend): its lift, vanes,
+      // counts and state follow.
+      auto record_turn = [&](double angle) {
         r_frame.lifts[i] += float(angle);
         mine = feather_vanes(r_frame, ranges, i, options.root_disc);
         ++lifted;
         largest = std::max(largest, float(angle));
         if (r_state) r_state->turns[i] = float(angle);
+      };
+      auto turn_by = [&](double angle) {
+        const Eigen::Matrix3f turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix().cast<float>();
+        move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(turn * offset); });
+        record_turn(angle);
       };
       auto shrink_to = [&](double size) {
         const float scale = float(size);
@@ -1417,15 +1422,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       auto end_aside = [&](double yaw, double angle) {
         const Eigen::Matrix3f m = aside_move(yaw, angle).cast<float>();
         move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
-        r_frame.lifts[i] += float(angle);
-        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
-        ++lifted;
+        record_turn(angle);
         ++aside_count;
-        largest = std::max(largest, float(angle));
-        if (r_state) {
-          r_state->turns[i] = float(angle);
-          r_state->yaws[i] = float(yaw);
-        }
+        if (r_state) r_state->yaws[i] = float(yaw);
         if (counted_under) --left_under;
         unordered[i] = 0;
       };
@@ -1565,13 +1564,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           Eigen::Vector3f &x = r_frame.vanes.positions[size_t(p)];
           x = bent_point(map, x.cast<double>()).cast<float>();
         }
-        r_frame.lifts[i] += float(angle);
-        mine = feather_vanes(r_frame, ranges, i, options.root_disc);
-        ++lifted;
+        record_turn(angle);
         ++bent;
-        largest = std::max(largest, float(angle));
         if (r_state) {
-          r_state->turns[i] = float(angle);
           r_state->bends[i] = float(bend);
           r_state->bend_starts[i] = float(start);
         }

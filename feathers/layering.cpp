@@ -1428,6 +1428,21 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         if (counted_under) --left_under;
         unordered[i] = 0;
       };
+      // The smallest turn in [0, max_angle] at which `clears` holds, by steps of kAsideStep, then
+      // bisection to kAsideTolerance; -1 when no step clears.
+      auto smallest_clear_step = [&](const auto &clears) {
+        double failing = -1.0, clearing = -1.0;
+        for (double a = 0.0; a < max_angle + kAsideStep; a += kAsideStep) {
+          const double at = std::min(a, max_angle);
+          if (clears(at)) {
+            clearing = at;
+            break;
+          }
+          failing = at;
+        }
+        if (clearing >= 0.0 && failing >= 0.0) clearing = nearest_clear(clearing, failing, kAsideTolerance, clears);
+        return clearing;
+      };
       // The yaws tried, nearest `preferred` first (the yaw of the frame before; 0: the smallest first,
       // the positive one of a pair first).
       auto turn_aside = [&](double preferred) {
@@ -1437,19 +1452,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         std::stable_sort(yaws.begin(), yaws.end(),
                          [&](double a, double b) { return std::abs(a - preferred) < std::abs(b - preferred); });
         for (const double yaw : yaws) {
-          double failing = -1.0, clearing = -1.0;
-          for (double a = 0.0; a < max_angle + kAsideStep; a += kAsideStep) {
-            const double at = std::min(a, max_angle);
-            if (clear_moved(aside_move(yaw, at))) {
-              clearing = at;
-              break;
-            }
-            failing = at;
-          }
+          const double clearing = smallest_clear_step([&](double a) { return clear_moved(aside_move(yaw, a)); });
           if (clearing < 0.0) continue;
-          if (failing >= 0.0)
-            clearing = nearest_clear(clearing, failing, kAsideTolerance,
-                                     [&](double a) { return clear_moved(aside_move(yaw, a)); });
           end_aside(yaw, clearing);
           return true;
         }
@@ -1595,19 +1599,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           });
         double kept_angle = -1.0, kept_start = 0.0, kept_bend = 0.0;
         for (const auto &[start, bend] : bends) {
-          double failing = -1.0, clearing = -1.0;
-          for (double a = 0.0; a < max_angle + kAsideStep; a += kAsideStep) {
-            const double at = std::min(a, max_angle);
-            if (clear_bent(at, start, bend, false)) {
-              clearing = at;
-              break;
-            }
-            failing = at;
-          }
+          const double clearing = smallest_clear_step([&](double a) { return clear_bent(a, start, bend, false); });
           if (clearing < 0.0) continue;
-          if (failing >= 0.0)
-            clearing = nearest_clear(clearing, failing, kAsideTolerance,
-                                     [&](double a) { return clear_bent(a, start, bend, false); });
           if (outward.empty() || clear_bent(clearing, start, bend, true)) {
             end_bent(clearing, start, bend, true);
             return true;

@@ -1583,13 +1583,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           unordered[i] = 1;
         }
       };
-      // Before a shrink (no turn or yaw keeps it clear of the lower vanes): the bends tried, the
-      // smallest change of shape ((1 - start) |bend|) first, or nearest the preferred one (the frame
-      // before's) first, each at the smallest turn that keeps it clear of the lower vanes and the skin
-      // (steps of kAsideStep, then bisection); the first out from under every lower feather there is
-      // taken, else the first found (left under). None: false, nothing changed.
-      auto bend_clear = [&](double preferred_start, double preferred_bend) {
-        if (lower.empty() || !(bend_length > 0.0)) return false;
+      // The bends tried (start, bend), nearest the preferred one first (the frame before's; a bend of 0:
+      // the order of kBends).
+      auto bends_nearest = [&](double preferred_start, double preferred_bend) {
         std::array<std::pair<double, double>, std::size(kBends)> bends;
         std::copy(std::begin(kBends), std::end(kBends), bends.begin());
         if (preferred_bend != 0.0)
@@ -1597,6 +1593,16 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             return std::abs(a.first - preferred_start) + std::abs(a.second - preferred_bend) <
                    std::abs(b.first - preferred_start) + std::abs(b.second - preferred_bend);
           });
+        return bends;
+      };
+      // Before a shrink (no turn or yaw keeps it clear of the lower vanes): the bends tried, the
+      // smallest change of shape ((1 - start) |bend|) first, or nearest the preferred one (the frame
+      // before's) first, each at the smallest turn that keeps it clear of the lower vanes and the skin
+      // (steps of kAsideStep, then bisection); the first out from under every lower feather there is
+      // taken, else the first found (left under). None: false, nothing changed.
+      auto bend_clear = [&](double preferred_start, double preferred_bend) {
+        if (lower.empty() || !(bend_length > 0.0)) return false;
+        const auto bends = bends_nearest(preferred_start, preferred_bend);
         double kept_angle = -1.0, kept_start = 0.0, kept_bend = 0.0;
         for (const auto &[start, bend] : bends) {
           const double clearing = smallest_clear_step([&](double a) { return clear_bent(a, start, bend, false); });
@@ -1625,13 +1631,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       auto bend_fewest = [&](double preferred_start, double preferred_bend, double preferred_angle, double near,
                              std::ptrdiff_t best) {
         if (lower.empty() || outward.empty() || !(bend_length > 0.0)) return false;
-        std::array<std::pair<double, double>, std::size(kBends)> bends;
-        std::copy(std::begin(kBends), std::end(kBends), bends.begin());
-        if (preferred_bend != 0.0)
-          std::stable_sort(bends.begin(), bends.end(), [&](const auto &a, const auto &b) {
-            return std::abs(a.first - preferred_start) + std::abs(a.second - preferred_bend) <
-                   std::abs(b.first - preferred_start) + std::abs(b.second - preferred_bend);
-          });
+        const auto bends = bends_nearest(preferred_start, preferred_bend);
         std::vector<char> over_bent(lower.size());
         // The lower feathers over it as clear_bent last moved it, counted up to `enough`.
         const auto count_over = [&](std::ptrdiff_t enough) {

@@ -1,8 +1,9 @@
 // Growth on the real job: Sintel's head and 228 guides, 100,000 strands x 32 points on her scalp
 // (roots within 2 of a guide root, as her grooms scatter them), every interpolation method as a
-// groom runs it by default (streamline with its separation pass), two threads; the median of repeated runs of grow() alone (binding is done once, as a groom does),
-// in points per second. bench/vs_blender.sh runs it beside Blender's interpolated children
-// (bench/blender_children.py) in one go and prints the ratio.
+// groom runs it by default (streamline with its separation pass), two threads; the median of
+// repeated runs of grow() alone (binding is done once, as a groom does), in points per second.
+// bench/vs_blender.sh runs it beside Blender's interpolated children (bench/blender_children.py) in
+// one go and prints the ratio.
 // Usage: bench_sintel [STRANDS [RUNS [METHOD]]]   (default 100000 strands, 7 runs, every method)
 // The last lines are machine-readable, one per method:
 //   PLUME_GROWTH method=streamline strands=100000 points=32 threads=2 median_s=... points_per_s=...

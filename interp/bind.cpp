@@ -69,13 +69,11 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
   const bool use_partings = partings != nullptr && !partings->empty();
   if (use_partings) partings->check_roots_have_guides(roots.points);
 
-  // Distances below this count as an exact hit (the root sits on the guide root).
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
   for (const Eigen::Vector3f &p : rest_mesh.positions) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const float hit_distance = std::max(1e-6f * (hi - lo).norm(), 1e-12f);
   // Streamline-ratio weighs guides by 1/d whatever the setting: the law that keeps the ratio of
   // distances (docs/interpolation.md); binding weights use the same law so growth starts from them.
   const float falloff = settings.method == InterpolationSettings::Method::streamline ? 1.0f : settings.falloff;
@@ -132,6 +130,12 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
                      segment_lengths.end());
     binding.length_unit = segment_lengths[segment_lengths.size() / 2];
   }
+  // Distances below this count as a hit (the root sits on the guide root), never more than a
+  // twentieth of the length unit (on an emitter far larger than its hair, the checker's tolerance
+  // would otherwise make a clump of every guide).
+  const float hit_distance =
+      std::max(std::min(root_hit_of_diagonal * (hi - lo).norm(), root_hit_of_length_unit * binding.length_unit), 1e-12f);
+  binding.hit_distance = hit_distance;
   binding.skin_margin = settings.skin_margin >= 0.0f ? settings.skin_margin : default_margin_fraction * binding.length_unit;
   binding.step = step_fraction * binding.length_unit;
   binding.tolerance = tolerance_fraction * binding.length_unit;
@@ -148,6 +152,7 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
   const size_t root_count = roots.size();
   binding.guide_ids.assign(root_count * size_t(k), -1);
   binding.weights.assign(root_count * size_t(k), 0.0f);
+  binding.hits.assign(root_count, 0);
   binding.rest_rotations.assign(root_count * size_t(k), Eigen::Quaternionf::Identity());
   binding.lengths.assign(root_count, 0.0f);
 
@@ -222,6 +227,7 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
       const int64_t base = r * k;
       float total = 0.0f;
       if (any_hit) {
+        binding.hits[size_t(r)] = 1;
         for (size_t s = 0; s < used; ++s) {
           binding.weights[size_t(base) + s] = candidates[s].factor;
           total += candidates[s].factor;

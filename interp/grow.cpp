@@ -477,14 +477,21 @@ int frame_slots(const Binding &binding, const FrameGuides &frame, size_t r, cons
   return used;
 }
 
-/// The guide a root is the root of (the binding gave that guide all the weight, and the two surface
-/// points coincide), or -1: its strand is the guide itself where the guide stays out of the skin.
-int32_t guide_at_root(const Binding &binding, const FrameGuides &frame, const Slot *slots, int used,
-                      const SurfaceFrame &root_frame) {
-  if (used == 1 && slots[0].weight == 1.0f &&
-      (frame.origins[size_t(slots[0].guide)] - root_frame.origin).norm() <= 1e-5f * binding.length_unit)
-    return slots[0].guide;
+/// The guide a root is the root of (the binding found the root within its hit distance of that
+/// guide's root alone: Binding::hits), or -1: its strand is the guide itself, from the root's own
+/// place (guide_start_offset), where the guide stays out of the skin.
+int32_t guide_at_root(const Binding &binding, size_t r, const Slot *slots, int used) {
+  if (used == 1 && r < binding.hits.size() && binding.hits[r]) return slots[0].guide;
   return -1;
+}
+
+/// How far a strand at guide root `g` starts from the guide's own first point: the root's offset
+/// from the guide root on the skin at this frame, or none where the two coincide (within 1e-5 of
+/// the length unit), so that a strand at the guide root itself is the guide to the bit.
+Eigen::Vector3f guide_start_offset(const Binding &binding, const FrameGuides &frame, int32_t g,
+                                   const SurfaceFrame &root_frame) {
+  const Eigen::Vector3f offset = root_frame.origin - frame.origins[size_t(g)];
+  return offset.norm() <= 1e-5f * binding.length_unit ? Eigen::Vector3f::Zero() : offset;
 }
 
 /// A strand's first point: the root on the skin, lifted along its normal by the height of the guides'
@@ -606,7 +613,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
       const Eigen::Vector3f root = lifted_root(binding, frame, guides, slots, used, root_frame,
                                                roots.points[size_t(r)].triangle, band);
 
-      const int32_t on_guide = guide_at_root(binding, frame, slots, used, root_frame);
+      const int32_t on_guide = guide_at_root(binding, size_t(r), slots, used);
 
       if (on_guide >= 0 && !at_guide_root.empty()) at_guide_root[size_t(r)] = 1;
       if (settings.method == InterpolationSettings::Method::streamline) {
@@ -614,7 +621,11 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
         if (field && !field->empty() && on_guide >= 0 &&
             follow_guide(guides.points(size_t(on_guide)), query, curve_merge_fraction * binding.length_unit, margin, n,
                          scratch.pieces, scratch.fine, points, lower)) {
-          // the guide's own curve, which is also its exact curve for the separation pass
+          // the guide's own curve, which is also its exact curve for the separation pass; a root
+          // beside the guide root (within the hit distance) starts as far beside the guide's start
+          const Eigen::Vector3f beside = guide_start_offset(binding, frame, on_guide, root_frame);
+          points[0] += beside;
+          lower[0] = std::max(lower[0] - beside.norm(), 0.0f);
           if (!fine_curves.empty())
             keep_curve(scratch.fine.points, std::numeric_limits<float>::max(), fine_curves[size_t(r)], cuts[size_t(r)]);
         } else if (field && !field->empty()) {
@@ -739,13 +750,13 @@ std::vector<Eigen::Vector3f> strand_starts(const Binding &binding, const Mesh &m
       starts[size_t(r)] = lifted_root(binding, frame, guides, slots, used, root_frame,
                                       roots.points[size_t(r)].triangle, band);
       // A streamline strand at a guide root is the guide's own curve where grow() follows it.
-      const int32_t on_guide = guide_at_root(binding, frame, slots, used, root_frame);
+      const int32_t on_guide = guide_at_root(binding, size_t(r), slots, used);
       if (streamline && on_guide >= 0) {
         Eigen::Vector3f ends[2];
         float lower[2];
         if (follow_guide(guides.points(size_t(on_guide)), query, curve_merge_fraction * binding.length_unit,
                          binding.skin_margin, 2, pieces, fine, ends, lower))
-          starts[size_t(r)] = ends[0];
+          starts[size_t(r)] = ends[0] + guide_start_offset(binding, frame, on_guide, root_frame);
       }
     }
   }

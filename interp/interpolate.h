@@ -56,6 +56,14 @@ struct Binding {
   /// The groom's length unit (scene units): the median length of the rest guides' segments. Every
   /// default length of growth is a fraction of it, so a groom behaves the same at any scale.
   float length_unit = 0.0f;
+  /// Roots nearer than this (scene units) to a guide root at rest are at that guide root: the guide
+  /// alone weighs for them, and a streamline strand there follows the guide's own curve from its
+  /// own root. root_hit_of_diagonal times the rest emitter's bounding-box diagonal, at most
+  /// root_hit_of_length_unit times the length unit.
+  float hit_distance = 0.0f;
+  /// #roots: 1 where the root is within hit_distance of a guide root at rest (a hit: only the guides
+  /// hit weigh), else 0.
+  std::vector<uint8_t> hits;
   /// The skin margin (scene units): settings.skin_margin, or when that is negative (the default)
   /// default_margin_fraction * length_unit. Strands keep at least this far from the skin.
   float skin_margin = 0.0f;
@@ -71,6 +79,13 @@ struct Binding {
   size_t root_count() const { return lengths.size(); }
 };
 
+/// A root within this fraction of the rest emitter's bounding-box diagonal of a guide root is at
+/// that guide root: twice the checker's root tolerance (plume check judges strands whose roots lie
+/// within 1e-4 of the posed emitter's diagonal of a guide root against that guide), so that every
+/// strand the checker holds to its guide is grown as the guide, on any pose.
+inline constexpr float root_hit_of_diagonal = 2e-4f;
+/// ... and never more than this fraction of the groom's length unit.
+inline constexpr float root_hit_of_length_unit = 0.05f;
 /// The skin margin's default, as a fraction of the groom's length unit (Binding::length_unit).
 inline constexpr float default_margin_fraction = 0.1f;
 /// Streamline growth's longest step, as a fraction of the length unit: one guide segment.

@@ -198,7 +198,16 @@ void run_regrow(const RegrowArgs &args) {
       continue;
     }
     // Later frames of a simulation step through the skipped ones.
-    for (size_t g = 0; g < pipelines.size(); ++g) results[g] = pipelines[g]->produce(frame);
+    for (size_t g = 0; g < pipelines.size(); ++g) {
+      results[g] = pipelines[g]->produce(frame);
+      if (results[g].unseparated_pairs > 0)
+        std::fprintf(stderr,
+                     "plume: warning: frame %d%s%s: the separation pass left %lld segment pairs nearer than plume "
+                     "check's crossing tolerance (plume check reports them; docs/interpolation.md, \"The separation "
+                     "pass\")\n",
+                     frame, grouped ? ", group " : "", grouped ? groups[g].group_name.c_str() : "",
+                     static_cast<long long>(results[g].unseparated_pairs));
+    }
     write_options.time_code = frame;
     if (!grouped) {
       io::write_strands(expand_frame_pattern(out, frame), results[0].strands, write_options);

@@ -284,7 +284,10 @@ FrameResult Pipeline::produce(int frame, bool with_effects) {
   std::vector<float> clearance;
   const skin::SkinGrid skin_grid(result.mesh, query);
   const skin::SkinGrid *grid = &skin_grid;
+  interp::GrowStats grow_stats;
+  grow_options.r_stats = &grow_stats;
   interp::grow(*binding_, result.mesh, query, roots_, result.guides, grow_options, result.strands, &clearance, grid);
+  result.unseparated_pairs = grow_stats.unseparated_pairs;
   if (with_effects)
     effects_->apply(result.mesh, query, result.guides, binding_->skin_margin, result.strands, clearance,
                     grid);

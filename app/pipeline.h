@@ -72,6 +72,9 @@ struct FrameResult {
   Mesh mesh;          // the posed emitter, normals computed
   StrandSet guides;   // the guides at this frame
   StrandSet strands;  // the dense strands, widths root to tip, ids = root ids
+  /// Segment pairs the separation pass left nearer than plume check's crossing tolerance (0 without
+  /// the pass): interp::GrowStats::unseparated_pairs.
+  int64_t unseparated_pairs = 0;
 };
 
 class Pipeline {

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -592,4 +593,59 @@ TEST_CASE("interpolation.separate: the separation pass parts the written strands
   CHECK(after["inside_skin.points"] == 0);
   CHECK(after["guides.over_limit"] == 0);
   CHECK(after["strand_count"] == before["strand_count"]);
+}
+
+TEST_CASE("regrow warns when the separation pass leaves pairs it could not part, and names their count", "[cli]") {
+  // The planar arch (docs/interpolation.md, "What is guaranteed"): a guide 1.5 long and one 3.6
+  // long rising beside it, arching over its tip and curling back; strands rooted between and beside
+  // them converge inside the arch until their curves coincide, where no move parts them.
+  ScratchDir scratch("separation_warning");
+  std::ofstream obj(scratch / "strip.obj");
+  obj << "v -3 -3 0\nv 3 -3 0\nv 3 3 0\nv -3 3 0\nf 1 2 3\nf 1 3 4\n";
+  obj.close();
+  auto sampled = [](auto &&curve) {
+    std::vector<Eigen::Vector3f> dense, points;
+    for (int i = 0; i <= 4000; ++i) dense.push_back(curve(double(i) / 4000.0).template cast<float>());
+    std::vector<double> arc(1, 0.0);
+    for (size_t i = 1; i < dense.size(); ++i) arc.push_back(arc.back() + double((dense[i] - dense[i - 1]).norm()));
+    for (int i = 0, j = 0; i < 32; ++i) {
+      const double s = arc.back() * i / 31.0;
+      while (j + 2 < int(dense.size()) && arc[size_t(j) + 1] < s) ++j;
+      points.push_back(dense[size_t(j) + 1]);
+    }
+    points.front() = dense.front();
+    return points;
+  };
+  plume::StrandSet guides;
+  guides.append(sampled([](double t) { return Eigen::Vector3d(0.3 + 0.15 * t, 0.0, 1.5 * t); }), 0);
+  guides.append(sampled([](double t) {
+                  const double rise = 1.2, r = 0.6, turn = 225.0 * M_PI / 180.0, s = t * (rise + r * turn);
+                  if (s <= rise) return Eigen::Vector3d(-0.3, 0.0, s);
+                  const double a = M_PI - (s - rise) / r;
+                  return Eigen::Vector3d(0.3 + r * std::cos(a), 0.0, rise + r * std::sin(a));
+                }),
+                1);
+  plume::io::write_strands(scratch / "guides.hair", guides);
+  std::ofstream roots(scratch / "roots.txt");
+  for (int i = 0; i < 40; ++i) roots << -0.9 + 1.8 * (i + 0.5) / 40.0 << " 0 0\n";
+  roots.close();
+  for (const bool separate : {true, false}) {
+    const std::string groom = scratch / "arch.groom.yaml";
+    std::ofstream(groom) << "plume: 1\nemitter: {mesh: strip.obj}\nguides: {file: guides.hair}\n"
+                         << "roots: {file: roots.txt}\nstrands: {points: 24}\n"
+                         << "interpolation: {separate: " << (separate ? "true" : "false") << "}\n";
+    const RunResult run = run_plume("regrow " + quoted(groom) + " --frames 1 --no-preview --out " +
+                                        quoted(scratch / "h.####.hair"),
+                                    scratch);
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    const size_t at = run.err.find("plume: warning: frame 1: the separation pass left ");
+    if (!separate) {
+      CHECK(at == std::string::npos);
+      continue;
+    }
+    REQUIRE(at != std::string::npos);
+    const long long left = std::stoll(run.err.substr(at + std::strlen("plume: warning: frame 1: the separation pass left ")));
+    CHECK(left > 0);
+  }
 }

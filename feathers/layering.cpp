@@ -1171,13 +1171,24 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         unordered[i] = 1;
         if (r_state) r_state->scales[i] = scale;
       };
-      // A size in [0, cap] at which the feather, unturned, clears, by bisection (12 halvings; whether a
-      // size clears is not monotone in it, so this is not always the largest).
+      // The largest size in [0, cap] at which the feather, unturned, clears. Whether a size clears is
+      // not monotone in it (a lower feather lies across the vanes' middle, the skin curves away under
+      // the tip), so a bisection over [0, cap] may end far below a size that clears, or at 0: the sizes
+      // are scanned down by kShrinkSteps steps of cap / kShrinkSteps, then bisected (12 halvings)
+      // between the first that clears and the one above it. Where no step clears, the bisection over
+      // [0, the last step] (the feather all but gone: its vanes within the checker's root disc).
       auto largest_clear_size = [&](double cap) {
         gather(false);
         witness = {};
-        if (cap < 1.0 && !conflict(0.0, cap)) return cap;
-        double lo = 0.0, hi = cap;
+        if (!conflict(0.0, cap)) return cap;
+        const double step = cap / kShrinkSteps;
+        double lo = 0.0, hi = step;
+        for (int k = kShrinkSteps - 1; k >= 1; --k)
+          if (!conflict(0.0, k * step)) {
+            lo = k * step;
+            hi = (k + 1) * step;
+            break;
+          }
         for (int b = 0; b < 12; ++b) {
           const double mid = 0.5 * (lo + hi);
           (conflict(0.0, mid) ? hi : lo) = mid;
@@ -1419,14 +1430,21 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         const Eigen::Matrix3d aside = Eigen::AngleAxisd(yaw, normal).toRotationMatrix();
         return Eigen::Matrix3d(Eigen::AngleAxisd(angle, aside * axis).toRotationMatrix() * aside);
       };
-      auto end_aside = [&](double yaw, double angle) {
+      // `out`: out from under every lower feather (turned aside), else left under one (named).
+      auto end_aside = [&](double yaw, double angle, bool out = true) {
         const Eigen::Matrix3f m = aside_move(yaw, angle).cast<float>();
         move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
         record_turn(angle);
-        ++aside_count;
         if (r_state) r_state->yaws[i] = float(yaw);
-        if (counted_under) --left_under;
-        unordered[i] = 0;
+        if (out) {
+          ++aside_count;
+          if (counted_under) --left_under;
+          unordered[i] = 0;
+        } else {
+          if (!counted_under) ++left_under;
+          counted_under = true;
+          unordered[i] = 1;
+        }
       };
       // The smallest turn in [0, max_angle] at which `clears` holds, by steps of kAsideStep, then
       // bisection to kAsideTolerance; -1 when no step clears.
@@ -1455,6 +1473,58 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           const double clearing = smallest_clear_step([&](double a) { return clear_moved(aside_move(yaw, a)); });
           if (clearing < 0.0) continue;
           end_aside(yaw, clearing);
+          return true;
+        }
+        return false;
+      };
+      // Before a shrink (no turn, yaw or bend keeps it clear of the lower vanes and out from under
+      // them, and no bend keeps it clear of the vanes at all): turned aside as far as keeping it clear of
+      // the lower vanes and the skin only, left under a lower feather (named) rather than shrunk. The
+      // yaws nearest `preferred` first (the yaw of the frame before); at that yaw, the turn nearest
+      // `preferred_angle` (its turn there: steps of kAsideStep either way, one up, then one down, then
+      // bisection toward it), at any other the smallest (smallest_clear_step). Found: the feather ends
+      // there, and true; none: false, nothing changed.
+      auto aside_left_under = [&](double preferred, double preferred_angle) {
+        if (lower.empty()) return false;
+        std::array<double, std::size(kAsideYaws)> yaws;
+        std::copy(std::begin(kAsideYaws), std::end(kAsideYaws), yaws.begin());
+        std::stable_sort(yaws.begin(), yaws.end(),
+                         [&](double a, double b) { return std::abs(a - preferred) < std::abs(b - preferred); });
+        for (const double yaw : yaws) {
+          const auto clears_at = [&](double a) {
+            const Eigen::Matrix3d move = aside_move(yaw, a);
+            return clear_mapped([&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); }, true, false);
+          };
+          double clearing = -1.0;
+          if (yaw == preferred && preferred_angle >= 0.0) {
+            const double at = std::clamp(preferred_angle, 0.0, max_angle);
+            if (clears_at(at)) {
+              clearing = at;
+            } else {
+              double last_up = at, last_down = at;
+              while (clearing < 0.0 && (last_up < max_angle || last_down > 0.0)) {
+                const double up = std::min(last_up + kAsideStep, max_angle), down = std::max(last_down - kAsideStep, 0.0);
+                if (up > last_up) {
+                  if (clears_at(up)) {
+                    clearing = nearest_clear(up, last_up, kAsideTolerance, clears_at);
+                    break;
+                  }
+                  last_up = up;
+                }
+                if (down < last_down) {
+                  if (clears_at(down)) {
+                    clearing = nearest_clear(down, last_down, kAsideTolerance, clears_at);
+                    break;
+                  }
+                  last_down = down;
+                }
+              }
+            }
+          } else {
+            clearing = smallest_clear_step(clears_at);
+          }
+          if (clearing < 0.0) continue;
+          end_aside(yaw, clearing, false);
           return true;
         }
         return false;
@@ -1869,9 +1939,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): turned aside where that clears it,
         // else bent (out from under the lower feathers where a bend takes it out, else clear of their
-        // vanes only: left under rather than shrunk), else, unturned, it is shrunk toward its root
-        // until it clears (the largest such size), as the skin pass does.
-        if (turn_aside(previous_yaw) || bend_clear(previous_bend_start, previous_bend))
+        // vanes only: left under rather than shrunk), else turned aside clear of their vanes only (left
+        // under), else, unturned, it is shrunk toward its root until it clears (the largest such size),
+        // as the skin pass does.
+        if (turn_aside(previous_yaw) || bend_clear(previous_bend_start, previous_bend) ||
+            aside_left_under(previous_yaw, from))
           continue;
         shrink_to(largest_clear_size(1.0));
         continue;

@@ -1430,6 +1430,23 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         const Eigen::Matrix3d aside = Eigen::AngleAxisd(yaw, normal).toRotationMatrix();
         return Eigen::Matrix3d(Eigen::AngleAxisd(angle, aside * axis).toRotationMatrix() * aside);
       };
+      // Whether the feather turned aside by `yaw`, then turned by `angle`, keeps clear of the lower vanes
+      // and the skin (the test for lower feathers over it skipped).
+      auto clear_aside_only = [&](double yaw, double angle) {
+        const Eigen::Matrix3d move = aside_move(yaw, angle);
+        return clear_mapped([&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); }, true, false);
+      };
+      // The lower feathers over it as a move clear of their vanes and the skin (clear_mapped, true) left
+      // it, counted up to `enough`: every vertex was moved by that test.
+      std::vector<char> over_moved(lower.size());
+      const auto count_moved = [&](std::ptrdiff_t enough) {
+        std::fill(over_moved.begin(), over_moved.end(), char(0));
+        std::ptrdiff_t count = 0;
+        for (size_t k = 0; k < outward.size() && count < enough; ++k)
+          count += under_lower_at(aside_vertices[size_t(outward[k] - v0)], outward[k], every_lower.data(),
+                                  every_lower.data() + every_lower.size(), &over_moved);
+        return count;
+      };
       // `out`: out from under every lower feather (turned aside), else left under one (named).
       auto end_aside = [&](double yaw, double angle, bool out = true) {
         const Eigen::Matrix3f m = aside_move(yaw, angle).cast<float>();
@@ -1491,10 +1508,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         std::stable_sort(yaws.begin(), yaws.end(),
                          [&](double a, double b) { return std::abs(a - preferred) < std::abs(b - preferred); });
         for (const double yaw : yaws) {
-          const auto clears_at = [&](double a) {
-            const Eigen::Matrix3d move = aside_move(yaw, a);
-            return clear_mapped([&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); }, true, false);
-          };
+          const auto clears_at = [&](double a) { return clear_aside_only(yaw, a); };
           double clearing = -1.0;
           if (yaw == preferred && preferred_angle >= 0.0) {
             const double at = std::clamp(preferred_angle, 0.0, max_angle);
@@ -1702,20 +1716,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
                              std::ptrdiff_t best) {
         if (lower.empty() || outward.empty() || !(bend_length > 0.0)) return false;
         const auto bends = bends_nearest(preferred_start, preferred_bend);
-        std::vector<char> over_bent(lower.size());
-        // The lower feathers over it as clear_bent last moved it, counted up to `enough`.
-        const auto count_over = [&](std::ptrdiff_t enough) {
-          std::fill(over_bent.begin(), over_bent.end(), char(0));
-          std::ptrdiff_t count = 0;
-          for (size_t k = 0; k < outward.size() && count < enough; ++k)
-            count += under_lower_at(aside_vertices[size_t(outward[k] - v0)], outward[k], every_lower.data(),
-                                    every_lower.data() + every_lower.size(), &over_bent);
-          return count;
-        };
         double best_angle = -1.0, best_start = 0.0, best_bend = 0.0;
         if (preferred_bend != 0.0 && preferred_angle >= 0.0 &&
             clear_bent(preferred_angle, preferred_start, preferred_bend, false)) {
-          const std::ptrdiff_t count = count_over(best + 1);
+          const std::ptrdiff_t count = count_moved(best + 1);
           if (count <= best) {
             best = count;
             best_angle = preferred_angle;
@@ -1729,7 +1733,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             const double at = std::min(lowest + s * kAsideStep, max_angle);
             if (s > 0 && at == std::min(lowest + (s - 1) * kAsideStep, max_angle)) break;
             if (!clear_bent(at, start, bend, false)) continue;
-            const std::ptrdiff_t count = count_over(best);
+            const std::ptrdiff_t count = count_moved(best);
             if (count < best) {
               best = count;
               best_angle = at;
@@ -1892,8 +1896,12 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // With a warm start, the turn of the frame before competes too, when it keeps it clear of the
         // lower feathers' vanes and the skin: it stays there unless a step within kLocalSteps of it is
         // under fewer (a step farther away would be a jump).
+        // So does a feather's yaw and turn of the frame before, where it was turned aside (or left
+        // under at a yaw): it stays at that yaw unless a step near its turn is under fewer.
         std::ptrdiff_t best = PTRDIFF_MAX;
-        const bool stay = from >= 0.0 && !conflict(from);
+        const bool stay_aside = previous_yaw != 0.0 && from >= 0.0 && clear_aside_only(previous_yaw, from);
+        const bool stay = !stay_aside && from >= 0.0 && !conflict(from);
+        if (stay_aside) best = count_moved(PTRDIFF_MAX);
         if (stay) {
           best = under_count(from, PTRDIFF_MAX);
           above = from;
@@ -1906,7 +1914,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         for (double a = 0.0; a < max_angle + kStep; a += kStep, ++step) {
           const double at = std::min(a, max_angle);
           const signed char known_clear = step < step_clear.size() ? step_clear[step] : -1;
-          const bool near = !stay || std::abs(at - from) <= kLocalSteps * kStep;
+          const bool near = !(stay || stay_aside) || std::abs(at - from) <= kLocalSteps * kStep;
           if (near && (known_clear == 1 || (known_clear == -1 && !conflict(at)))) {
             const std::ptrdiff_t count = under_count(at, best);
             if (count < best) {
@@ -1923,6 +1931,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         if (stay && above == from) {
           if (!turn_aside(previous_yaw) && !bend_fewest(previous_bend_start, previous_bend, from, from, best))
             end_at(from);
+          continue;
+        }
+        if (stay_aside && above < 0.0) {
+          if (!turn_aside(previous_yaw) && !bend_fewest(previous_bend_start, previous_bend, from, from, best))
+            end_aside(previous_yaw, from, best == 0);
           continue;
         }
         if (above > 0.0) {

@@ -152,9 +152,9 @@ struct LayeringStats {
 /// layering pass's warm start"): a turn that still clears falls back toward no turn by at most
 /// options.fall_back rachis widths at its farthest point, staying among the turns that clear; a turn
 /// that no longer clears moves to the nearest that does within 3 steps of the search (0.06 radians)
-/// either way; a feather no turn takes out from under the lower ones stays at its turn while that
-/// keeps it clear of their vanes and the skin, unless a step of the search leaves it under fewer of
-/// them; a feather turned aside at the frame before drops its yaw where its turn about the
+/// either way; a feather no turn takes out from under the lower ones stays at its turn (and its yaw,
+/// where it had one) while that keeps it clear of their vanes and the skin, unless a step of the
+/// search leaves it under fewer of them; a feather turned aside at the frame before drops its yaw where its turn about the
 /// unturned axis, or one within 3 steps, clears; else it stays at its yaw and turn while they clear,
 /// its yaw falling back toward none by at most options.fall_back rachis widths at its farthest point
 /// (its turn instead where the yaw cannot fall), or takes the nearest turn that clears at that yaw

@@ -164,8 +164,8 @@ struct LayeringStats {
 /// farthest point; a feather neither a turn nor a yaw takes out from under the lower ones is bent
 /// along its shaft where a bend, at turns near the one under the fewest, leaves it under fewer lower
 /// feathers (or none), and one no turn or yaw keeps clear of the lower vanes is bent, where a bend
-/// does, or else turned aside where a yaw and turn keep it clear of their vanes (left under), before
-/// it is shrunk (to the largest size that clears: a scan down, then bisection); a shrunk feather grows
+/// does, or else, where it was turned aside at the frame before, turned aside where a yaw and turn
+/// keep it clear of their vanes (left under), before it is shrunk (to the largest size that clears: a scan down, then bisection); a shrunk feather grows
 /// back unturned by at most options.fall_back rachis widths per frame, and where its size no longer
 /// clears, takes the nearest size below that does; otherwise, the search above. Every answer passes the
 /// same tests as the search's, so the promise (no vane within the offset of a lower one, none below

@@ -1900,7 +1900,31 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // So does a feather's yaw and turn of the frame before, where it was turned aside (or left
         // under at a yaw): it stays at that yaw unless a step near its turn is under fewer.
         std::ptrdiff_t best = PTRDIFF_MAX;
-        const bool stay_aside = previous_yaw != 0.0 && from >= 0.0 && clear_aside_only(previous_yaw, from);
+        // At that yaw, its turn, or the nearest within kLocalSteps either way that keeps it clear.
+        double aside_at = -1.0;
+        if (previous_yaw != 0.0 && from >= 0.0) {
+          const auto clears_at = [&](double a) { return clear_aside_only(previous_yaw, a); };
+          if (clears_at(from)) aside_at = from;
+          double last_up = from, last_down = from;
+          for (int s = 1; s <= kLocalSteps && aside_at < 0.0; ++s) {
+            const double up = std::min(from + s * kStep, max_angle), down = std::max(from - s * kStep, 0.0);
+            if (up > last_up) {
+              if (clears_at(up)) {
+                aside_at = nearest_clear(up, last_up, kAsideTolerance, clears_at);
+                break;
+              }
+              last_up = up;
+            }
+            if (down < last_down) {
+              if (clears_at(down)) {
+                aside_at = nearest_clear(down, last_down, kAsideTolerance, clears_at);
+                break;
+              }
+              last_down = down;
+            }
+          }
+        }
+        const bool stay_aside = aside_at >= 0.0 && clear_aside_only(previous_yaw, aside_at);
         const bool stay = !stay_aside && from >= 0.0 && !conflict(from);
         if (stay_aside) best = count_moved(PTRDIFF_MAX);
         if (stay) {
@@ -1936,7 +1960,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         }
         if (stay_aside && above < 0.0) {
           if (!turn_aside(previous_yaw) && !bend_fewest(previous_bend_start, previous_bend, from, from, best))
-            end_aside(previous_yaw, from, best == 0);
+            end_aside(previous_yaw, aside_at, best == 0);
           continue;
         }
         if (above > 0.0) {

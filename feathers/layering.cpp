@@ -1900,13 +1900,15 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // So does a feather's yaw and turn of the frame before, where it was turned aside (or left
         // under at a yaw): it stays at that yaw unless a step near its turn is under fewer.
         std::ptrdiff_t best = PTRDIFF_MAX;
-        // At that yaw, its turn, or the nearest within kLocalSteps either way that keeps it clear.
+        // At that yaw, its turn, or the nearest that keeps it clear, by steps either way over the whole
+        // range (within kLocalSteps only, a feather turned aside whose turn closed at its yaw took the
+        // turn under the fewest about the unturned axis, up to a radian away).
         double aside_at = -1.0;
         if (previous_yaw != 0.0 && from >= 0.0) {
           const auto clears_at = [&](double a) { return clear_aside_only(previous_yaw, a); };
           if (clears_at(from)) aside_at = from;
           double last_up = from, last_down = from;
-          for (int s = 1; s <= kLocalSteps && aside_at < 0.0; ++s) {
+          for (int s = 1; aside_at < 0.0 && (last_up < max_angle || last_down > 0.0); ++s) {
             const double up = std::min(from + s * kStep, max_angle), down = std::max(from - s * kStep, 0.0);
             if (up > last_up) {
               if (clears_at(up)) {

@@ -1171,13 +1171,24 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         unordered[i] = 1;
         if (r_state) r_state->scales[i] = scale;
       };
-      // A size in [0, cap] at which the feather, unturned, clears, by bisection (12 halvings; whether a
-      // size clears is not monotone in it, so this is not always the largest).
+      // The largest size in [0, cap] at which the feather, unturned, clears. Whether a size clears is
+      // not monotone in it (a lower feather lies across the vanes' middle, the skin curves away under
+      // the tip), so a bisection over [0, cap] may end far below a size that clears, or at 0: the sizes
+      // are scanned down by kShrinkSteps steps of cap / kShrinkSteps, then bisected (12 halvings)
+      // between the first that clears and the one above it. Where no step clears, the bisection over
+      // [0, the last step] (the feather all but gone: its vanes within the checker's root disc).
       auto largest_clear_size = [&](double cap) {
         gather(false);
         witness = {};
-        if (cap < 1.0 && !conflict(0.0, cap)) return cap;
-        double lo = 0.0, hi = cap;
+        if (!conflict(0.0, cap)) return cap;
+        const double step = cap / kShrinkSteps;
+        double lo = 0.0, hi = step;
+        for (int k = kShrinkSteps - 1; k >= 1; --k)
+          if (!conflict(0.0, k * step)) {
+            lo = k * step;
+            hi = (k + 1) * step;
+            break;
+          }
         for (int b = 0; b < 12; ++b) {
           const double mid = 0.5 * (lo + hi);
           (conflict(0.0, mid) ? hi : lo) = mid;
@@ -1419,14 +1430,38 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         const Eigen::Matrix3d aside = Eigen::AngleAxisd(yaw, normal).toRotationMatrix();
         return Eigen::Matrix3d(Eigen::AngleAxisd(angle, aside * axis).toRotationMatrix() * aside);
       };
-      auto end_aside = [&](double yaw, double angle) {
+      // Whether the feather turned aside by `yaw`, then turned by `angle`, keeps clear of the lower vanes
+      // and the skin (the test for lower feathers over it skipped).
+      auto clear_aside_only = [&](double yaw, double angle) {
+        const Eigen::Matrix3d move = aside_move(yaw, angle);
+        return clear_mapped([&](const Vec &p) { return Vec(mine.root + move * (p - mine.root)); }, true, false);
+      };
+      // The lower feathers over it as a move clear of their vanes and the skin (clear_mapped, true) left
+      // it, counted up to `enough`: every vertex was moved by that test.
+      std::vector<char> over_moved(lower.size());
+      const auto count_moved = [&](std::ptrdiff_t enough) {
+        std::fill(over_moved.begin(), over_moved.end(), char(0));
+        std::ptrdiff_t count = 0;
+        for (size_t k = 0; k < outward.size() && count < enough; ++k)
+          count += under_lower_at(aside_vertices[size_t(outward[k] - v0)], outward[k], every_lower.data(),
+                                  every_lower.data() + every_lower.size(), &over_moved);
+        return count;
+      };
+      // `out`: out from under every lower feather (turned aside), else left under one (named).
+      auto end_aside = [&](double yaw, double angle, bool out = true) {
         const Eigen::Matrix3f m = aside_move(yaw, angle).cast<float>();
         move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
         record_turn(angle);
-        ++aside_count;
         if (r_state) r_state->yaws[i] = float(yaw);
-        if (counted_under) --left_under;
-        unordered[i] = 0;
+        if (out) {
+          ++aside_count;
+          if (counted_under) --left_under;
+          unordered[i] = 0;
+        } else {
+          if (!counted_under) ++left_under;
+          counted_under = true;
+          unordered[i] = 1;
+        }
       };
       // The smallest turn in [0, max_angle] at which `clears` holds, by steps of kAsideStep, then
       // bisection to kAsideTolerance; -1 when no step clears.
@@ -1455,6 +1490,56 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           const double clearing = smallest_clear_step([&](double a) { return clear_moved(aside_move(yaw, a)); });
           if (clearing < 0.0) continue;
           end_aside(yaw, clearing);
+          return true;
+        }
+        return false;
+      };
+      // Before a shrink of a feather turned aside at the frame before (no turn, yaw or bend keeps it
+      // clear of the lower vanes and out from under them, and no bend keeps it clear of the vanes at
+      // all): turned aside as far as keeping it clear of the lower vanes and the skin only, left under a
+      // lower feather (named) rather than shrunk. The
+      // yaws nearest `preferred` first (the yaw of the frame before); at that yaw, the turn nearest
+      // `preferred_angle` (its turn there: steps of kAsideStep either way, one up, then one down, then
+      // bisection toward it), at any other the smallest (smallest_clear_step). Found: the feather ends
+      // there, and true; none: false, nothing changed.
+      auto aside_left_under = [&](double preferred, double preferred_angle) {
+        if (lower.empty()) return false;
+        std::array<double, std::size(kAsideYaws)> yaws;
+        std::copy(std::begin(kAsideYaws), std::end(kAsideYaws), yaws.begin());
+        std::stable_sort(yaws.begin(), yaws.end(),
+                         [&](double a, double b) { return std::abs(a - preferred) < std::abs(b - preferred); });
+        for (const double yaw : yaws) {
+          const auto clears_at = [&](double a) { return clear_aside_only(yaw, a); };
+          double clearing = -1.0;
+          if (yaw == preferred && preferred_angle >= 0.0) {
+            const double at = std::clamp(preferred_angle, 0.0, max_angle);
+            if (clears_at(at)) {
+              clearing = at;
+            } else {
+              double last_up = at, last_down = at;
+              while (clearing < 0.0 && (last_up < max_angle || last_down > 0.0)) {
+                const double up = std::min(last_up + kAsideStep, max_angle), down = std::max(last_down - kAsideStep, 0.0);
+                if (up > last_up) {
+                  if (clears_at(up)) {
+                    clearing = nearest_clear(up, last_up, kAsideTolerance, clears_at);
+                    break;
+                  }
+                  last_up = up;
+                }
+                if (down < last_down) {
+                  if (clears_at(down)) {
+                    clearing = nearest_clear(down, last_down, kAsideTolerance, clears_at);
+                    break;
+                  }
+                  last_down = down;
+                }
+              }
+            }
+          } else {
+            clearing = smallest_clear_step(clears_at);
+          }
+          if (clearing < 0.0) continue;
+          end_aside(yaw, clearing, false);
           return true;
         }
         return false;
@@ -1632,20 +1717,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
                              std::ptrdiff_t best) {
         if (lower.empty() || outward.empty() || !(bend_length > 0.0)) return false;
         const auto bends = bends_nearest(preferred_start, preferred_bend);
-        std::vector<char> over_bent(lower.size());
-        // The lower feathers over it as clear_bent last moved it, counted up to `enough`.
-        const auto count_over = [&](std::ptrdiff_t enough) {
-          std::fill(over_bent.begin(), over_bent.end(), char(0));
-          std::ptrdiff_t count = 0;
-          for (size_t k = 0; k < outward.size() && count < enough; ++k)
-            count += under_lower_at(aside_vertices[size_t(outward[k] - v0)], outward[k], every_lower.data(),
-                                    every_lower.data() + every_lower.size(), &over_bent);
-          return count;
-        };
         double best_angle = -1.0, best_start = 0.0, best_bend = 0.0;
         if (preferred_bend != 0.0 && preferred_angle >= 0.0 &&
             clear_bent(preferred_angle, preferred_start, preferred_bend, false)) {
-          const std::ptrdiff_t count = count_over(best + 1);
+          const std::ptrdiff_t count = count_moved(best + 1);
           if (count <= best) {
             best = count;
             best_angle = preferred_angle;
@@ -1659,7 +1734,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             const double at = std::min(lowest + s * kAsideStep, max_angle);
             if (s > 0 && at == std::min(lowest + (s - 1) * kAsideStep, max_angle)) break;
             if (!clear_bent(at, start, bend, false)) continue;
-            const std::ptrdiff_t count = count_over(best);
+            const std::ptrdiff_t count = count_moved(best);
             if (count < best) {
               best = count;
               best_angle = at;
@@ -1822,8 +1897,38 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // With a warm start, the turn of the frame before competes too, when it keeps it clear of the
         // lower feathers' vanes and the skin: it stays there unless a step within kLocalSteps of it is
         // under fewer (a step farther away would be a jump).
+        // So does a feather's yaw and turn of the frame before, where it was turned aside (or left
+        // under at a yaw): it stays at that yaw unless a step near its turn is under fewer.
         std::ptrdiff_t best = PTRDIFF_MAX;
-        const bool stay = from >= 0.0 && !conflict(from);
+        // At that yaw, its turn, or the nearest that keeps it clear, by steps either way over the whole
+        // range (within kLocalSteps only, a feather turned aside whose turn closed at its yaw took the
+        // turn under the fewest about the unturned axis, up to a radian away).
+        double aside_at = -1.0;
+        if (previous_yaw != 0.0 && from >= 0.0) {
+          const auto clears_at = [&](double a) { return clear_aside_only(previous_yaw, a); };
+          if (clears_at(from)) aside_at = from;
+          double last_up = from, last_down = from;
+          for (int s = 1; aside_at < 0.0 && (last_up < max_angle || last_down > 0.0); ++s) {
+            const double up = std::min(from + s * kStep, max_angle), down = std::max(from - s * kStep, 0.0);
+            if (up > last_up) {
+              if (clears_at(up)) {
+                aside_at = nearest_clear(up, last_up, kAsideTolerance, clears_at);
+                break;
+              }
+              last_up = up;
+            }
+            if (down < last_down) {
+              if (clears_at(down)) {
+                aside_at = nearest_clear(down, last_down, kAsideTolerance, clears_at);
+                break;
+              }
+              last_down = down;
+            }
+          }
+        }
+        const bool stay_aside = aside_at >= 0.0 && clear_aside_only(previous_yaw, aside_at);
+        const bool stay = !stay_aside && from >= 0.0 && !conflict(from);
+        if (stay_aside) best = count_moved(PTRDIFF_MAX);
         if (stay) {
           best = under_count(from, PTRDIFF_MAX);
           above = from;
@@ -1836,7 +1941,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         for (double a = 0.0; a < max_angle + kStep; a += kStep, ++step) {
           const double at = std::min(a, max_angle);
           const signed char known_clear = step < step_clear.size() ? step_clear[step] : -1;
-          const bool near = !stay || std::abs(at - from) <= kLocalSteps * kStep;
+          const bool near = !(stay || stay_aside) || std::abs(at - from) <= kLocalSteps * kStep;
           if (near && (known_clear == 1 || (known_clear == -1 && !conflict(at)))) {
             const std::ptrdiff_t count = under_count(at, best);
             if (count < best) {
@@ -1855,6 +1960,11 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             end_at(from);
           continue;
         }
+        if (stay_aside && above < 0.0) {
+          if (!turn_aside(previous_yaw) && !bend_fewest(previous_bend_start, previous_bend, from, from, best))
+            end_aside(previous_yaw, aside_at, best == 0);
+          continue;
+        }
         if (above > 0.0) {
           below = best_below;
           while (above - below > 1e-4) {
@@ -1869,9 +1979,14 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
       if (above < 0.0) {
         // No turn clears it (lower feathers stand over its root): turned aside where that clears it,
         // else bent (out from under the lower feathers where a bend takes it out, else clear of their
-        // vanes only: left under rather than shrunk), else, unturned, it is shrunk toward its root
-        // until it clears (the largest such size), as the skin pass does.
-        if (turn_aside(previous_yaw) || bend_clear(previous_bend_start, previous_bend))
+        // vanes only: left under rather than shrunk), else, where it was turned aside at the frame
+        // before, turned aside clear of their vanes only (left under: it keeps its yaw rather than
+        // collapse), else, unturned, it is shrunk toward its root until it clears (the largest such
+        // size), as the skin pass does. (Turning aside so every feather that would be shrunk, yawed or
+        // not, left 4 in 10 fewer shrunk on the 2,000-feather proxy, but 12% more layer-order
+        // violations and twice the order flips: a feather kept whole crowds the ones above it.)
+        if (turn_aside(previous_yaw) || bend_clear(previous_bend_start, previous_bend) ||
+            (previous_yaw != 0.0 && aside_left_under(previous_yaw, from)))
           continue;
         shrink_to(largest_clear_size(1.0));
         continue;

@@ -152,9 +152,9 @@ struct LayeringStats {
 /// layering pass's warm start"): a turn that still clears falls back toward no turn by at most
 /// options.fall_back rachis widths at its farthest point, staying among the turns that clear; a turn
 /// that no longer clears moves to the nearest that does within 3 steps of the search (0.06 radians)
-/// either way; a feather no turn takes out from under the lower ones stays at its turn while that
-/// keeps it clear of their vanes and the skin, unless a step of the search leaves it under fewer of
-/// them; a feather turned aside at the frame before drops its yaw where its turn about the
+/// either way; a feather no turn takes out from under the lower ones stays at its turn (and its yaw,
+/// where it had one) while that keeps it clear of their vanes and the skin, unless a step of the
+/// search leaves it under fewer of them; a feather turned aside at the frame before drops its yaw where its turn about the
 /// unturned axis, or one within 3 steps, clears; else it stays at its yaw and turn while they clear,
 /// its yaw falling back toward none by at most options.fall_back rachis widths at its farthest point
 /// (its turn instead where the yaw cannot fall), or takes the nearest turn that clears at that yaw
@@ -164,7 +164,8 @@ struct LayeringStats {
 /// farthest point; a feather neither a turn nor a yaw takes out from under the lower ones is bent
 /// along its shaft where a bend, at turns near the one under the fewest, leaves it under fewer lower
 /// feathers (or none), and one no turn or yaw keeps clear of the lower vanes is bent, where a bend
-/// does, before it is shrunk; a shrunk feather grows
+/// does, or else, where it was turned aside at the frame before, turned aside where a yaw and turn
+/// keep it clear of their vanes (left under), before it is shrunk (to the largest size that clears: a scan down, then bisection); a shrunk feather grows
 /// back unturned by at most options.fall_back rachis widths per frame, and where its size no longer
 /// clears, takes the nearest size below that does; otherwise, the search above. Every answer passes the
 /// same tests as the search's, so the promise (no vane within the offset of a lower one, none below

@@ -104,6 +104,21 @@ def write_triangles(path, vertices, triangles, comment):
             f.write('f %d %d %d\n' % (a + 1, b + 1, c + 1))
 
 
+def write_height_patch(path, height, cells, size, scale, comment):
+    """A square of `cells` x `cells` quads, `size` across, at heights y = height(x, z), as triangles."""
+    vertices, triangles = [], []
+    for j in range(cells + 1):
+        for i in range(cells + 1):
+            x, y = -size / 2 + size * i / cells, -size / 2 + size * j / cells
+            vertices.append(pg.mul((x, height(x, y), y), scale))
+    for j in range(cells):
+        for i in range(cells):
+            a = j * (cells + 1) + i
+            b, c = a + 1, a + cells + 1
+            triangles += [(a, c, b), (b, c, c + 1)]
+    write_triangles(path, vertices, triangles, comment)
+
+
 def write_sphere(seed, scale, folder):
     rng = random.Random(seed)
     radius, rings, sectors = 2.0, 24, 48
@@ -161,17 +176,7 @@ def write_ringlets(seed, scale, folder):
     def height(x, y):
         return -bow * (x * x + y * y)
 
-    vertices, triangles = [], []
-    for j in range(cells + 1):
-        for i in range(cells + 1):
-            x, y = -size / 2 + size * i / cells, -size / 2 + size * j / cells
-            vertices.append(pg.mul((x, height(x, y), y), scale))
-    for j in range(cells):
-        for i in range(cells):
-            a = j * (cells + 1) + i
-            b, c = a + 1, a + cells + 1
-            triangles += [(a, c, b), (b, c, c + 1)]
-    write_triangles(os.path.join(folder, 'patch.obj'), vertices, triangles, 'curved patch, seed %d' % seed)
+    write_height_patch(os.path.join(folder, 'patch.obj'), height, cells, size, scale, 'curved patch, seed %d' % seed)
 
     side_count, points, spacing = 7, 32, 8.0 / 6
     coil = spacing * rng.uniform(0.15, 0.45)
@@ -211,17 +216,7 @@ def write_layered(seed, scale, folder):
         a = turn * math.sin(0.3 * y + 0.2 * x)
         return math.cos(a), math.sin(a)
 
-    vertices, triangles = [], []
-    for j in range(cells + 1):
-        for i in range(cells + 1):
-            x, y = -size / 2 + size * i / cells, -size / 2 + size * j / cells
-            vertices.append(pg.mul((x, height(x, y), y), scale))
-    for j in range(cells):
-        for i in range(cells):
-            a = j * (cells + 1) + i
-            b, c = a + 1, a + cells + 1
-            triangles += [(a, c, b), (b, c, c + 1)]
-    write_triangles(os.path.join(folder, 'patch.obj'), vertices, triangles, 'layered patch, seed %d' % seed)
+    write_height_patch(os.path.join(folder, 'patch.obj'), height, cells, size, scale, 'layered patch, seed %d' % seed)
 
     side_count, points, spacing = 8, 16, 8.0 / 7
     guides = []

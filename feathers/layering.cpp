@@ -1478,6 +1478,25 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         if (clearing >= 0.0 && failing >= 0.0) clearing = nearest_clear(clearing, failing, kAsideTolerance, clears);
         return clearing;
       };
+      // The turn in [0, max_angle] nearest `from` at which `clears` holds: `from` itself, else by steps
+      // of `step` either way (up first at each step), then bisection to kAsideTolerance toward the step
+      // before; -1 when no step clears.
+      auto nearest_clear_step = [&](double from, double step, const auto &clears) {
+        if (clears(from)) return from;
+        double last_up = from, last_down = from;
+        for (int s = 1; last_up < max_angle || last_down > 0.0; ++s) {
+          const double up = std::min(from + s * step, max_angle), down = std::max(from - s * step, 0.0);
+          if (up > last_up) {
+            if (clears(up)) return nearest_clear(up, last_up, kAsideTolerance, clears);
+            last_up = up;
+          }
+          if (down < last_down) {
+            if (clears(down)) return nearest_clear(down, last_down, kAsideTolerance, clears);
+            last_down = down;
+          }
+        }
+        return -1.0;
+      };
       // The yaws tried, nearest `preferred` first (the yaw of the frame before; 0: the smallest first,
       // the positive one of a pair first).
       auto turn_aside = [&](double preferred) {
@@ -1510,34 +1529,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
                          [&](double a, double b) { return std::abs(a - preferred) < std::abs(b - preferred); });
         for (const double yaw : yaws) {
           const auto clears_at = [&](double a) { return clear_aside_only(yaw, a); };
-          double clearing = -1.0;
-          if (yaw == preferred && preferred_angle >= 0.0) {
-            const double at = std::clamp(preferred_angle, 0.0, max_angle);
-            if (clears_at(at)) {
-              clearing = at;
-            } else {
-              double last_up = at, last_down = at;
-              while (clearing < 0.0 && (last_up < max_angle || last_down > 0.0)) {
-                const double up = std::min(last_up + kAsideStep, max_angle), down = std::max(last_down - kAsideStep, 0.0);
-                if (up > last_up) {
-                  if (clears_at(up)) {
-                    clearing = nearest_clear(up, last_up, kAsideTolerance, clears_at);
-                    break;
-                  }
-                  last_up = up;
-                }
-                if (down < last_down) {
-                  if (clears_at(down)) {
-                    clearing = nearest_clear(down, last_down, kAsideTolerance, clears_at);
-                    break;
-                  }
-                  last_down = down;
-                }
-              }
-            }
-          } else {
-            clearing = smallest_clear_step(clears_at);
-          }
+          const double clearing =
+              yaw == preferred && preferred_angle >= 0.0
+                  ? nearest_clear_step(std::clamp(preferred_angle, 0.0, max_angle), kAsideStep, clears_at)
+                  : smallest_clear_step(clears_at);
           if (clearing < 0.0) continue;
           end_aside(yaw, clearing, false);
           return true;
@@ -1903,29 +1898,10 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
         // At that yaw, its turn, or the nearest that keeps it clear, by steps either way over the whole
         // range (within kLocalSteps only, a feather turned aside whose turn closed at its yaw took the
         // turn under the fewest about the unturned axis, up to a radian away).
-        double aside_at = -1.0;
-        if (previous_yaw != 0.0 && from >= 0.0) {
-          const auto clears_at = [&](double a) { return clear_aside_only(previous_yaw, a); };
-          if (clears_at(from)) aside_at = from;
-          double last_up = from, last_down = from;
-          for (int s = 1; aside_at < 0.0 && (last_up < max_angle || last_down > 0.0); ++s) {
-            const double up = std::min(from + s * kStep, max_angle), down = std::max(from - s * kStep, 0.0);
-            if (up > last_up) {
-              if (clears_at(up)) {
-                aside_at = nearest_clear(up, last_up, kAsideTolerance, clears_at);
-                break;
-              }
-              last_up = up;
-            }
-            if (down < last_down) {
-              if (clears_at(down)) {
-                aside_at = nearest_clear(down, last_down, kAsideTolerance, clears_at);
-                break;
-              }
-              last_down = down;
-            }
-          }
-        }
+        const double aside_at =
+            previous_yaw != 0.0 && from >= 0.0
+                ? nearest_clear_step(from, kStep, [&](double a) { return clear_aside_only(previous_yaw, a); })
+                : -1.0;
         const bool stay_aside = aside_at >= 0.0 && clear_aside_only(previous_yaw, aside_at);
         const bool stay = !stay_aside && from >= 0.0 && !conflict(from);
         if (stay_aside) best = count_moved(PTRDIFF_MAX);

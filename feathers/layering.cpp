@@ -1447,14 +1447,9 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
                                   every_lower.data() + every_lower.size(), &over_moved);
         return count;
       };
-      // `out`: out from under every lower feather (turned aside), else left under one (named).
-      auto end_aside = [&](double yaw, double angle, bool out = true) {
-        const Eigen::Matrix3f m = aside_move(yaw, angle).cast<float>();
-        move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
-        record_turn(angle);
-        if (r_state) r_state->yaws[i] = float(yaw);
+      // The feather ends out from under every lower feather, or left under one (named, counted once).
+      auto end_out = [&](bool out) {
         if (out) {
-          ++aside_count;
           if (counted_under) --left_under;
           unordered[i] = 0;
         } else {
@@ -1462,6 +1457,15 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           counted_under = true;
           unordered[i] = 1;
         }
+      };
+      // `out`: out from under every lower feather (turned aside), else left under one (named).
+      auto end_aside = [&](double yaw, double angle, bool out = true) {
+        const Eigen::Matrix3f m = aside_move(yaw, angle).cast<float>();
+        move_about_root([&](const Eigen::Vector3f &offset) { return Eigen::Vector3f(m * offset); });
+        record_turn(angle);
+        if (r_state) r_state->yaws[i] = float(yaw);
+        if (out) ++aside_count;
+        end_out(out);
       };
       // The smallest turn in [0, max_angle] at which `clears` holds, by steps of kAsideStep, then
       // bisection to kAsideTolerance; -1 when no step clears.
@@ -1654,14 +1658,7 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
           r_state->bends[i] = float(bend);
           r_state->bend_starts[i] = float(start);
         }
-        if (out) {
-          if (counted_under) --left_under;
-          unordered[i] = 0;
-        } else {
-          if (!counted_under) ++left_under;
-          counted_under = true;
-          unordered[i] = 1;
-        }
+        end_out(out);
       };
       // The bends tried (start, bend), nearest the preferred one first (the frame before's; a bend of 0:
       // the order of kBends).

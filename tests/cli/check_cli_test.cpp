@@ -5,13 +5,13 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
 
 #include "cli/cli_fixtures.h"
 #include "groom/mesh_query.h"
+#include "interp/hard_scenes.h"
 #include "io/groom_file.h"
 #include "io/obj_mesh.h"
 #include "io/strand_file.h"
@@ -596,38 +596,22 @@ TEST_CASE("interpolation.separate: the separation pass parts the written strands
 }
 
 TEST_CASE("regrow warns when the separation pass leaves pairs it could not part, and names their count", "[cli]") {
-  // The planar arch (docs/interpolation.md, "What is guaranteed"): a guide 1.5 long and one 3.6
-  // long rising beside it, arching over its tip and curling back; strands rooted between and beside
-  // them converge inside the arch until their curves coincide, where no move parts them.
+  // The planar arch (tests/interp/hard_scenes.h; docs/interpolation.md, "What is guaranteed"): a
+  // guide 1.5 long and one 3.6 long rising beside it, arching over its tip and curling back; strands
+  // rooted between and beside them converge inside the arch until their curves coincide, where no
+  // move parts them.
   ScratchDir scratch("separation_warning");
+  const plume::test::Scene scene = plume::test::planar_arch(32, 40);
   std::ofstream obj(scratch / "strip.obj");
-  obj << "v -3 -3 0\nv 3 -3 0\nv 3 3 0\nv -3 3 0\nf 1 2 3\nf 1 3 4\n";
+  for (const Eigen::Vector3f &p : scene.mesh.positions) obj << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+  for (const Eigen::Vector3i &t : scene.mesh.triangles) obj << "f " << t.x() + 1 << " " << t.y() + 1 << " " << t.z() + 1 << "\n";
   obj.close();
-  auto sampled = [](auto &&curve) {
-    std::vector<Eigen::Vector3f> dense, points;
-    for (int i = 0; i <= 4000; ++i) dense.push_back(curve(double(i) / 4000.0).template cast<float>());
-    std::vector<double> arc(1, 0.0);
-    for (size_t i = 1; i < dense.size(); ++i) arc.push_back(arc.back() + double((dense[i] - dense[i - 1]).norm()));
-    for (int i = 0, j = 0; i < 32; ++i) {
-      const double s = arc.back() * i / 31.0;
-      while (j + 2 < int(dense.size()) && arc[size_t(j) + 1] < s) ++j;
-      points.push_back(dense[size_t(j) + 1]);
-    }
-    points.front() = dense.front();
-    return points;
-  };
-  plume::StrandSet guides;
-  guides.append(sampled([](double t) { return Eigen::Vector3d(0.3 + 0.15 * t, 0.0, 1.5 * t); }), 0);
-  guides.append(sampled([](double t) {
-                  const double rise = 1.2, r = 0.6, turn = 225.0 * M_PI / 180.0, s = t * (rise + r * turn);
-                  if (s <= rise) return Eigen::Vector3d(-0.3, 0.0, s);
-                  const double a = M_PI - (s - rise) / r;
-                  return Eigen::Vector3d(0.3 + r * std::cos(a), 0.0, rise + r * std::sin(a));
-                }),
-                1);
-  plume::io::write_strands(scratch / "guides.hair", guides);
+  plume::io::write_strands(scratch / "guides.hair", scene.guides.strands);
   std::ofstream roots(scratch / "roots.txt");
-  for (int i = 0; i < 40; ++i) roots << -0.9 + 1.8 * (i + 0.5) / 40.0 << " 0 0\n";
+  for (const plume::SurfacePoint &root : scene.roots.points) {
+    const Eigen::Vector3f p = plume::surface_position(scene.mesh, root);
+    roots << p.x() << " " << p.y() << " " << p.z() << "\n";
+  }
   roots.close();
   for (const bool separate : {true, false}) {
     const std::string groom = scratch / "arch.groom.yaml";
@@ -639,13 +623,14 @@ TEST_CASE("regrow warns when the separation pass leaves pairs it could not part,
                                     scratch);
     INFO(run.err);
     REQUIRE(run.exit_code == 0);
-    const size_t at = run.err.find("plume: warning: frame 1: the separation pass left ");
+    const std::string warning = "plume: warning: frame 1: the separation pass left ";
+    const size_t at = run.err.find(warning);
     if (!separate) {
       CHECK(at == std::string::npos);
       continue;
     }
     REQUIRE(at != std::string::npos);
-    const long long left = std::stoll(run.err.substr(at + std::strlen("plume: warning: frame 1: the separation pass left ")));
+    const long long left = std::stoll(run.err.substr(at + warning.size()));
     CHECK(left > 0);
   }
 }

@@ -135,7 +135,6 @@ Binding bind(const Mesh &rest_mesh, const Guides &guides, const Roots &roots, co
   // would otherwise make a clump of every guide).
   const float hit_distance =
       std::max(std::min(root_hit_of_diagonal * (hi - lo).norm(), root_hit_of_length_unit * binding.length_unit), 1e-12f);
-  binding.hit_distance = hit_distance;
   binding.skin_margin = settings.skin_margin >= 0.0f ? settings.skin_margin : default_margin_fraction * binding.length_unit;
   binding.step = step_fraction * binding.length_unit;
   binding.tolerance = tolerance_fraction * binding.length_unit;

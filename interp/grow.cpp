@@ -477,8 +477,8 @@ int frame_slots(const Binding &binding, const FrameGuides &frame, size_t r, cons
   return used;
 }
 
-/// The guide a root is the root of (the binding found the root within its hit distance of that
-/// guide's root alone: Binding::hits), or -1: its strand is the guide itself, from the root's own
+/// The guide a root is the root of (the binding found it at that guide's root alone: Binding::hits),
+/// or -1: its strand is the guide itself, from the root's own
 /// place (guide_start_offset), where the guide stays out of the skin.
 int32_t guide_at_root(const Binding &binding, size_t r, const Slot *slots, int used) {
   if (used == 1 && r < binding.hits.size() && binding.hits[r]) return slots[0].guide;
@@ -622,7 +622,7 @@ void grow(const Binding &binding, const Mesh &mesh, const MeshQuery &query, cons
             follow_guide(guides.points(size_t(on_guide)), query, curve_merge_fraction * binding.length_unit, margin, n,
                          scratch.pieces, scratch.fine, points, lower)) {
           // the guide's own curve, which is also its exact curve for the separation pass; a root
-          // beside the guide root (within the hit distance) starts as far beside the guide's start
+          // beside the guide root (a hit, Binding::hits) starts as far beside the guide's start
           const Eigen::Vector3f beside = guide_start_offset(binding, frame, on_guide, root_frame);
           points[0] += beside;
           lower[0] = std::max(lower[0] - beside.norm(), 0.0f);

@@ -56,13 +56,10 @@ struct Binding {
   /// The groom's length unit (scene units): the median length of the rest guides' segments. Every
   /// default length of growth is a fraction of it, so a groom behaves the same at any scale.
   float length_unit = 0.0f;
-  /// Roots nearer than this (scene units) to a guide root at rest are at that guide root: the guide
-  /// alone weighs for them, and a streamline strand there follows the guide's own curve from its
-  /// own root. root_hit_of_diagonal times the rest emitter's bounding-box diagonal, at most
-  /// root_hit_of_length_unit times the length unit.
-  float hit_distance = 0.0f;
-  /// #roots: 1 where the root is within hit_distance of a guide root at rest (a hit: only the guides
-  /// hit weigh), else 0.
+  /// #roots: 1 where the root is at a guide root (a hit: within root_hit_of_diagonal times the rest
+  /// emitter's bounding-box diagonal of it at rest, at most root_hit_of_length_unit times the length
+  /// unit), else 0. Only the guides hit weigh, and a streamline strand there follows the guide's own
+  /// curve from its own root.
   std::vector<uint8_t> hits;
   /// The skin margin (scene units): settings.skin_margin, or when that is negative (the default)
   /// default_margin_fraction * length_unit. Strands keep at least this far from the skin.

@@ -254,7 +254,6 @@ class Separator {
     if ((pa - pb).norm() >= double(detect)) return true;
     const size_t sa = strand_of(u), sb = strand_of(v);
     const int ia = index_in_strand(u), ib = index_in_strand(v);
-    // The exact side: from b's curve to a's, at their closest points within a segment of the meeting.
     // The exact side, e: from b's curve to a's, at their closest points within a segment of the
     // meeting; where the curves meet there, the segments' own. A pair's push direction is chosen
     // from e at its first push and kept (below), so e is needed again only to tell whether the pair
@@ -471,7 +470,6 @@ class Separator {
       if (near_flags_[c]) near_.push_back(uint32_t(c));
     std::fill(moved_.begin(), moved_.end(), 0);
   }
-  /// Point k moves: the segments it ends are flagged for measuring again.
   /// Point k moves to `to`: the segments it ends are flagged for measuring again, and travel as far.
   void mark_moved(size_t k, const Eigen::Vector3f &to) {
     const size_t strand = strand_of_point(k), j = k - strand * size_t(n_);
@@ -574,6 +572,14 @@ class Separator {
     return true;
   }
 
+  /// Puts point k at `to`, its signed distance to the skin at least `bound`.
+  void place(size_t k, const Eigen::Vector3f &to, float bound) {
+    mark_moved(k, to);
+    positions_[k] = to;
+    drift_squared_ = std::max(drift_squared_, (to - searched_[k]).squaredNorm());
+    lower_[k] = bound;
+  }
+
   /// Moves point k by `delta` when it stays within its strand's largest move and out of the skin
   /// by its floor; its bound follows. Returns the part of `delta` achieved (along it): 1 when moved
   /// as asked, less when the skin took a part, 0 when refused.
@@ -584,10 +590,7 @@ class Separator {
     if (!to.allFinite() || !(delta.squaredNorm() > 0.0f) || (to - original_[k]).norm() > largest) return 0.0;
     float bound = lower_[k] - delta.norm();
     if (bound >= floor_[k]) {
-      mark_moved(k, to);
-      positions_[k] = to;
-      drift_squared_ = std::max(drift_squared_, (to - searched_[k]).squaredNorm());
-      lower_[k] = bound;
+      place(k, to, bound);
       return 1.0;
     }
     // Near the skin: queried; a move into it loses its part along the skin's normal there (the
@@ -608,10 +611,7 @@ class Separator {
     bound = grid_.signed_distance(target, closest.triangle, closest);
     if (!(bound >= floor_[k])) return 0.0;
     ++stats.slid;
-    mark_moved(k, target);
-    positions_[k] = target;
-    drift_squared_ = std::max(drift_squared_, (target - searched_[k]).squaredNorm());
-    lower_[k] = bound;
+    place(k, target, bound);
     return std::clamp(double(moved.dot(delta)) / double(delta.squaredNorm()), 0.0, 1.0);
   }
 

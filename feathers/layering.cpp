@@ -1899,6 +1899,8 @@ LayeringStats lift_layers(const LayerOrder &order, const FeatherRanges &ranges, 
             previous_yaw != 0.0 && from >= 0.0
                 ? nearest_clear_step(from, kStep, [&](double a) { return clear_aside_only(previous_yaw, a); })
                 : -1.0;
+        // (A turn the search returns clears; the test runs again at it so that count_moved counts the
+        // vertices as placed there, not at the last turn the search tried.)
         const bool stay_aside = aside_at >= 0.0 && clear_aside_only(previous_yaw, aside_at);
         const bool stay = !stay_aside && from >= 0.0 && !conflict(from);
         if (stay_aside) best = count_moved(PTRDIFF_MAX);

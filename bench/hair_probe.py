@@ -51,17 +51,7 @@ def write_patch(seed, scale, folder):
         dy = (height(x, y + e) - height(x, y - e)) / (2 * e)
         return pg.unit((-dx, 1.0, -dy))
 
-    with open(os.path.join(folder, 'patch.obj'), 'w') as f:
-        f.write('# bumpy patch, seed %d\n' % seed)
-        for j in range(cells + 1):
-            for i in range(cells + 1):
-                x, y = -size / 2 + size * i / cells, -size / 2 + size * j / cells
-                f.write('v %.9g %.9g %.9g\n' % (x * scale, height(x, y) * scale, y * scale))
-        for j in range(cells):
-            for i in range(cells):
-                a = j * (cells + 1) + i + 1
-                b, c = a + 1, a + cells + 1
-                f.write('f %d %d %d\nf %d %d %d\n' % (a, c, b, b, c, c + 1))
+    write_height_patch(os.path.join(folder, 'patch.obj'), height, cells, size, scale, 'bumpy patch, seed %d' % seed)
 
     side_count, points = 7, 16
     phase0, phase_slope = rng.uniform(0, 2 * math.pi), rng.uniform(0.0, 1.2)
